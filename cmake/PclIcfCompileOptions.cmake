@@ -1,0 +1,18 @@
+# Warnings and sanitizers for our own targets only (PCL's headers are SYSTEM includes).
+function(pcl_icf_target_defaults target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic)
+  if(PCL_ICF_WARNINGS_AS_ERRORS)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+  if(PCL_ICF_SANITIZE)
+    target_compile_options(${target} PRIVATE -fsanitize=${PCL_ICF_SANITIZE} -fno-omit-frame-pointer
+                                             -fno-sanitize-recover=all)
+    target_link_options(${target} PRIVATE -fsanitize=${PCL_ICF_SANITIZE})
+  endif()
+endfunction()
+
+# PCL 1.13 has no imported targets: wrap its variables in one interface target.
+add_library(pcl_icf_pcl_deps INTERFACE)
+target_include_directories(pcl_icf_pcl_deps SYSTEM INTERFACE ${PCL_INCLUDE_DIRS})
+target_link_libraries(pcl_icf_pcl_deps INTERFACE ${PCL_LIBRARIES} Eigen3::Eigen)
+target_compile_definitions(pcl_icf_pcl_deps INTERFACE ${PCL_DEFINITIONS})

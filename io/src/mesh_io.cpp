@@ -1,0 +1,99 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#include <pcl/icf/io/mesh_io.h>
+#include <pcl/io/ply_io.h>
+#include <pcl/io/vtk_lib_io.h>
+
+#include <vtkObject.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+
+namespace pcl {
+namespace icf {
+namespace io {
+
+std::string
+fileExtension(const std::string& path)
+{
+  std::string ext = std::filesystem::path(path).extension().string();
+  if (!ext.empty() && ext[0] == '.')
+    ext.erase(0, 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+void
+requireReadableFile(const std::string& path)
+{
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(status))
+    throw FileError(path + ": no such file");
+  if (!std::filesystem::is_regular_file(status))
+    throw FileError(path + ": not a regular file");
+  if (std::filesystem::file_size(path, ec) == 0 || ec)
+    throw FileError(path + ": file is empty");
+  std::ifstream probe(path, std::ios::binary);
+  if (!probe)
+    throw FileError(path + ": cannot be opened for reading");
+}
+
+namespace {
+
+/** PLY carries its own header: reject a file that does not start with one before PCL's reader
+ * sees it (its error path prints and returns, which we turn into an exception anyway). */
+void
+requirePlyMagic(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  char magic[4] = {0, 0, 0, 0};
+  in.read(magic, 3);
+  if (std::string(magic, 3) != "ply")
+    throw FileError(path + ": not a PLY file (no 'ply' header line)");
+}
+
+}  // namespace
+
+pcl::PolygonMesh
+loadPolygonMesh(const std::string& path)
+{
+  requireReadableFile(path);
+  const std::string ext = fileExtension(path);
+  pcl::PolygonMesh mesh;
+  // VTK readers print to stderr on bad input; we report through the exception instead.
+  vtkObject::GlobalWarningDisplayOff();
+  int result = -1;
+  if (ext == "ply") {
+    requirePlyMagic(path);
+    result = pcl::io::loadPLYFile(path, mesh);
+  }
+  else if (ext == "obj")
+    result = pcl::io::loadPolygonFileOBJ(path, mesh);
+  else if (ext == "stl")
+    result = pcl::io::loadPolygonFileSTL(path, mesh);
+  else if (ext == "vtk")
+    result = pcl::io::loadPolygonFileVTK(path, mesh);
+  else
+    throw FileError(path + ": unknown mesh extension '." + ext +
+                    "' (expected .ply, .obj, .stl or .vtk)");
+  if (result < 0)
+    throw FileError(path + ": malformed or truncated ." + ext + " file");
+  if (mesh.cloud.width * mesh.cloud.height == 0 || mesh.cloud.data.empty())
+    throw FileError(path + ": no vertices could be read (malformed, truncated or empty ." + ext +
+                    " file)");
+  const std::size_t expected = static_cast<std::size_t>(mesh.cloud.width) * mesh.cloud.height *
+                               mesh.cloud.point_step;
+  if (mesh.cloud.data.size() < expected)
+    throw FileError(path + ": vertex data shorter than its header claims (truncated file)");
+  return mesh;
+}
+
+}  // namespace io
+}  // namespace icf
+}  // namespace pcl

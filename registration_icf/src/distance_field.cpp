@@ -1,0 +1,122 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#include <pcl/icf/distance_field.h>
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace pcl {
+namespace icf {
+
+void
+DistanceFieldParams::validate() const
+{
+  auto fail = [](const char* field, double value, const char* rule) {
+    std::ostringstream msg;
+    msg << "DistanceFieldParams::" << field << " = " << value << ": " << rule;
+    throw std::invalid_argument(msg.str());
+  };
+  if (!(margin >= 0.f) || !std::isfinite(margin))
+    fail("margin", margin, "must be finite and >= 0");
+  if (!(cell_size >= 0.f) || !std::isfinite(cell_size))
+    fail("cell_size", cell_size, "must be finite and >= 0 (0 = automatic)");
+  if (cell_size == 0.f && (resolution < 2 || resolution > 4096))
+    fail("resolution", resolution, "must lie in [2, 4096]");
+  if (max_nodes < 8)
+    fail("max_nodes", static_cast<double>(max_nodes), "must be at least 8");
+  if (threads < 0)
+    fail("threads", threads, "must be >= 0 (0 = all cores)");
+}
+
+ClosestPointField::ClosestPointField(const ClosestFaceQuery& index,
+                                     const DistanceFieldParams& params)
+{
+  params.validate();
+  const FaceMesh& mesh = index.mesh();
+  const Eigen::Vector3f lo = mesh.boundsMin() - Eigen::Vector3f::Constant(params.margin);
+  const Eigen::Vector3f hi = mesh.boundsMax() + Eigen::Vector3f::Constant(params.margin);
+  const Eigen::Vector3f extent = (hi - lo).cwiseMax(1e-6f);
+  cell_ = params.cell_size > 0.f ? params.cell_size
+                                 : extent.maxCoeff() / static_cast<float>(params.resolution);
+  if (!(cell_ > 0.f) || !std::isfinite(cell_))
+    throw std::invalid_argument("ClosestPointField: mesh extent gives no usable cell size");
+  inv_cell_ = 1.f / cell_;
+  double nodes = 1.0;
+  for (int a = 0; a < 3; ++a) {
+    const double n = std::ceil(extent[a] / cell_) + 1.0;
+    nodes *= n;
+    if (nodes > static_cast<double>(params.max_nodes)) {
+      std::ostringstream msg;
+      msg << "ClosestPointField: a grid of cell " << cell_ << " over an extent of "
+          << extent.transpose() << " needs more than max_nodes = " << params.max_nodes
+          << " nodes; raise cell_size or max_nodes";
+      throw std::invalid_argument(msg.str());
+    }
+    dims_[a] = static_cast<int>(n);
+  }
+  origin_ = lo;
+  nodes_.resize(nodeCount() * 3);
+
+  const int threads = params.threads;
+  // Rows along x are filled in order; each node's exact query is bounded by the previous
+  // node's distance plus one cell (the distance is 1-Lipschitz), which keeps Embree's
+  // traversal short. The stored values do not depend on the bound or the thread count.
+  const int rows = dims_.y() * dims_.z();
+#pragma omp parallel for schedule(dynamic, 4) num_threads(threads > 0 ? threads : omp_get_num_procs())
+  for (int row = 0; row < rows; ++row) {
+    const int y = row % dims_.y(), z = row / dims_.y();
+    float previous = std::numeric_limits<float>::infinity();
+    for (int x = 0; x < dims_.x(); ++x) {
+      const Eigen::Vector3f node = origin_ + cell_ * Eigen::Vector3f(x, y, z);
+      ClosestFace c = index.closestFace(node, previous + 1.01f * cell_);
+      if (!c.found())
+        c = index.closestFace(node);
+      previous = c.distance;
+      const std::size_t i = 3 * (static_cast<std::size_t>(row) * dims_.x() + x);
+      nodes_[i] = c.point.x();
+      nodes_[i + 1] = c.point.y();
+      nodes_[i + 2] = c.point.z();
+    }
+  }
+}
+
+Eigen::Vector3f
+ClosestPointField::closestPoint(const Eigen::Vector3f& p) const
+{
+  // Grid coordinates, clamped so that the 8 nodes of the cell exist.
+  const Eigen::Vector3f g = (p - origin_) * inv_cell_;
+  int i[3];
+  float t[3];
+  for (int a = 0; a < 3; ++a) {
+    const float limit = static_cast<float>(dims_[a] - 1);
+    const float ga = std::min(std::max(g[a], 0.f), limit);  // NaN -> 0
+    int ia = static_cast<int>(ga);
+    if (ia >= dims_[a] - 1)
+      ia = dims_[a] - 2;
+    i[a] = ia;
+    t[a] = ga - static_cast<float>(ia);
+  }
+  const std::size_t sx = 3, sy = 3 * static_cast<std::size_t>(dims_.x()),
+                    sz = sy * static_cast<std::size_t>(dims_.y());
+  const float* n = nodes_.data() + i[0] * sx + i[1] * sy + i[2] * sz;
+  Eigen::Vector3f out;
+  for (int c = 0; c < 3; ++c) {
+    const float c00 = n[c] + t[0] * (n[sx + c] - n[c]);
+    const float c10 = n[sy + c] + t[0] * (n[sy + sx + c] - n[sy + c]);
+    const float c01 = n[sz + c] + t[0] * (n[sz + sx + c] - n[sz + c]);
+    const float c11 = n[sz + sy + c] + t[0] * (n[sz + sy + sx + c] - n[sz + sy + c]);
+    const float c0 = c00 + t[1] * (c10 - c00);
+    const float c1 = c01 + t[1] * (c11 - c01);
+    out[c] = c0 + t[2] * (c1 - c0);
+  }
+  return out;
+}
+
+}  // namespace icf
+}  // namespace pcl

@@ -1,0 +1,138 @@
+/**
+ * \file depth_camera.h
+ * \brief A pinhole depth-camera simulator (Kinect-like) producing synthetic scans with ground truth.
+ *
+ * Camera frame: x right, y down, z forward (optical axis), metres, origin at the optical centre.
+ * Pixel (u, v) (column, row; integer coordinates are pixel centres) sees the ray
+ * d = ((u - cx) / fx, (v - cy) / fy, 1); the depth of a hit is its z coordinate.
+ * All randomness comes from std::mt19937_64 seeded explicitly: the same inputs and seed give
+ * bit-identical output (with the same standard library).
+ */
+#pragma once
+
+#include "support/synthetic_models.h"
+
+#include <pcl/PolygonMesh.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace pcl {
+namespace icf {
+namespace test {
+
+/** \brief Pinhole intrinsics in pixels (defaults: a 640 x 480 Kinect-like camera). */
+struct CameraIntrinsics {
+  int width = 640;   ///< image width, pixels
+  int height = 480;  ///< image height, pixels
+  double fx = 525.0;  ///< focal length along x, pixels
+  double fy = 525.0;  ///< focal length along y, pixels
+  double cx = 319.5;  ///< principal point x, pixels
+  double cy = 239.5;  ///< principal point y, pixels
+};
+
+/** \brief A mesh placed in the camera frame. The mesh is not owned and must outlive the render. */
+struct SceneObject {
+  const pcl::PolygonMesh* mesh = nullptr;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< model -> camera frame (metres)
+  Eigen::Vector3f rgb = Eigen::Vector3f::Ones();           ///< flat colour, channels in [0, 1]
+  int label = 0;                                           ///< copied into Scan::labels
+};
+
+/** \brief Depth noise model.
+ *
+ * Every valid pixel's point is moved along its viewing ray by a Gaussian offset with standard
+ * deviation sigma = sigma_at_1m * z^2 (z = true depth in metres), truncated at +-4 sigma
+ * (resampled), so that every point is within 4 sigma + outlier_range of the true surface.
+ * Each valid pixel independently becomes an outlier with probability outlier_ratio (so the expected
+ * fraction of outliers is outlier_ratio) and then gets an additional offset along the ray, uniform
+ * in [-outlier_range, +outlier_range]. Pixels are processed in row-major order with one
+ * std::mt19937_64 seeded with seed.
+ */
+struct ScanNoise {
+  double sigma_at_1m = 0.0015;  ///< metres at 1 m depth; grows with depth^2
+  double outlier_ratio = 0.05;  ///< probability in [0, 1] that a valid pixel is an outlier
+  double outlier_range = 0.05;  ///< metres along the ray, uniform +-
+  std::uint64_t seed = 1;       ///< random seed
+
+  /** \brief No noise and no outliers (exact ray-cast depths). */
+  static ScanNoise none();
+};
+
+/** \brief A rendered scan. */
+struct Scan {
+  /** Organized width x height cloud in the camera frame (metres); x = y = z = NaN and rgb = 0 where
+   *  no surface was hit; is_dense = false; sensor origin 0, orientation identity. */
+  pcl::PointCloud<pcl::PointXYZRGB>::Ptr cloud;
+  /** Per pixel, row-major (index v * width + u): -1 where nothing was hit, else the
+   *  SceneObject::label of the nearest hit object. */
+  std::vector<int> labels;
+};
+
+/** \brief Ray-casts every pixel against every face of every object and keeps the nearest hit.
+ *
+ * Polygons are triangulated as fans; hits are two-sided (Moeller-Trumbore). Objects entirely
+ * behind the camera or outside the image (bounding sphere / projected bounding box) are skipped
+ * and each triangle is only tested against the pixels in its projected bounding box.
+ * \throws std::invalid_argument for non-positive image size or focal lengths, a null mesh, or
+ * invalid noise parameters.
+ */
+Scan renderScan(const std::vector<SceneObject>& objects, const CameraIntrinsics& intrinsics,
+                const ScanNoise& noise);
+
+/** \brief Renders a single mesh alone and returns its visible points (the "cluster") as an
+ *  unorganized, dense cloud in the camera frame (metres), in row-major pixel order.
+ *  Same noise model and determinism as renderScan. */
+pcl::PointCloud<pcl::PointXYZ>::Ptr renderCluster(const pcl::PolygonMesh& mesh,
+                                                  const Eigen::Isometry3d& model_to_camera,
+                                                  const CameraIntrinsics& intrinsics,
+                                                  const ScanNoise& noise);
+
+/** \brief The points of a scan whose pixel label equals label, as an unorganized dense cloud. */
+pcl::PointCloud<pcl::PointXYZ>::Ptr extractLabelCloud(const Scan& scan, int label);
+
+/** \brief A rotation uniformly distributed on SO(3) (normalised 4D Gaussian quaternion). */
+Eigen::Matrix3d randomRotation(std::mt19937_64& rng);
+
+/** \brief A uniformly random rotation with a position in front of the camera:
+ *  x, y uniform in [-0.15, 0.15] m and z uniform in [distance_min, distance_max] m. */
+Eigen::Isometry3d randomTabletopPose(std::mt19937_64& rng, double distance_min = 0.7,
+                                     double distance_max = 1.1);
+
+/** \brief A synthetic table-top scene with ground truth. */
+struct TabletopScene {
+  Scan scan;  ///< labels: 0 table, i + 1 for objects[i], -1 background
+  std::vector<Eigen::Isometry3d> poses;  ///< model -> camera per object (metres)
+  std::vector<std::string> names;        ///< SyntheticModel::name per object
+  /** Table plane (a, b, c, d) in the camera frame: a x + b y + c z + d = 0 with (a, b, c) a unit
+   *  normal pointing up, towards the camera (so d = camera height above the table > 0). */
+  Eigen::Vector4f table_plane = Eigen::Vector4f::Zero();
+  /** Table frame -> camera frame. Table frame: z up, surface z = 0, centred on the table. */
+  Eigen::Isometry3d table_to_camera = Eigen::Isometry3d::Identity();
+};
+
+/** \brief Renders objects standing upright on a 1.2 x 0.8 m table.
+ *
+ * The table lies in the z = 0 plane of the table frame (x along its 1.2 m side). The camera is
+ * at height camera_height (m) above the table, looking at the table centre with its optical axis
+ * tilted camera_tilt_deg below the horizontal (90 = straight down), the image x axis parallel to
+ * the table's x axis. Object i stands at (x, y) = table_xy_yaw[i].head<2>() (metres, table frame),
+ * turned by yaw table_xy_yaw[i].z() (radians) about the table normal, with its lowest vertex on the
+ * table surface (model z axis = table normal).
+ * \throws std::invalid_argument if the sizes of objects and table_xy_yaw differ, the height is not
+ * positive or the tilt is not in (0, 90].
+ */
+TabletopScene makeTabletopScene(const std::vector<SyntheticModel>& objects,
+                                const std::vector<Eigen::Vector3d>& table_xy_yaw,
+                                const CameraIntrinsics& intrinsics, const ScanNoise& noise,
+                                double camera_height = 0.6, double camera_tilt_deg = 45.0);
+
+}  // namespace test
+}  // namespace icf
+}  // namespace pcl

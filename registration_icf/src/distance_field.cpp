@@ -62,6 +62,8 @@ ClosestPointField::ClosestPointField(const ClosestFaceQuery& index,
   }
   origin_ = lo;
   nodes_.resize(nodeCount() * 3);
+  distances_.resize(nodeCount());
+  medial_.assign(nodeCount(), 0);
 
   const int threads = params.threads;
   // Rows along x are filled in order; each node's exact query is bounded by the previous
@@ -73,38 +75,84 @@ ClosestPointField::ClosestPointField(const ClosestFaceQuery& index,
     const int y = row % dims_.y(), z = row / dims_.y();
     float previous = std::numeric_limits<float>::infinity();
     for (int x = 0; x < dims_.x(); ++x) {
-      const Eigen::Vector3f node = origin_ + cell_ * Eigen::Vector3f(x, y, z);
-      ClosestFace c = index.closestFace(node, previous + 1.01f * cell_);
+      const Eigen::Vector3f position = origin_ + cell_ * Eigen::Vector3f(x, y, z);
+      ClosestFace c = index.closestFace(position, previous + 1.01f * cell_);
       if (!c.found())
-        c = index.closestFace(node);
+        c = index.closestFace(position);
       previous = c.distance;
-      const std::size_t i = 3 * (static_cast<std::size_t>(row) * dims_.x() + x);
+      const std::size_t node = static_cast<std::size_t>(row) * dims_.x() + x;
+      distances_[node] = c.distance;
+      const std::size_t i = 3 * node;
       nodes_[i] = c.point.x();
       nodes_[i + 1] = c.point.y();
       nodes_[i + 2] = c.point.z();
     }
   }
+  flagMedialCells();
 }
 
-Eigen::Vector3f
-ClosestPointField::closestPoint(const Eigen::Vector3f& p) const
+void
+ClosestPointField::flagMedialCells()
+{
+  // Where the closest point is continuous it moves at most about one cell diagonal between
+  // neighbouring nodes (the projection on a convex patch is non-expansive). 1.25 times that marks
+  // a jump: the cell straddles a medial axis.
+  const float limit = 1.25f * 1.7320508f * cell_;
+  const std::size_t sy = static_cast<std::size_t>(dims_.x());
+  const std::size_t sz = sy * static_cast<std::size_t>(dims_.y());
+  const std::size_t corners[7] = {1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1};
+  for (int z = 0; z + 1 < dims_.z(); ++z)
+    for (int y = 0; y + 1 < dims_.y(); ++y)
+      for (int x = 0; x + 1 < dims_.x(); ++x) {
+        const std::size_t base = x + y * sy + z * sz;
+        const Eigen::Map<const Eigen::Vector3f> c0(&nodes_[3 * base]);
+        for (std::size_t k : corners)
+          if ((Eigen::Map<const Eigen::Vector3f>(&nodes_[3 * (base + k)]) - c0).norm() > limit) {
+            medial_[base] = 1;
+            break;
+          }
+      }
+}
+
+double
+ClosestPointField::medialCellRatio() const
+{
+  std::size_t flagged = 0;
+  for (std::uint8_t m : medial_)
+    flagged += m;
+  const double cells = static_cast<double>(dims_.x() - 1) * (dims_.y() - 1) * (dims_.z() - 1);
+  return cells > 0 ? static_cast<double>(flagged) / cells : 0.0;
+}
+
+ClosestPointField::Cell
+ClosestPointField::locate(const Eigen::Vector3f& p) const
 {
   // Grid coordinates, clamped so that the 8 nodes of the cell exist.
   const Eigen::Vector3f g = (p - origin_) * inv_cell_;
-  int i[3];
-  float t[3];
+  Cell cell;
   for (int a = 0; a < 3; ++a) {
     const float limit = static_cast<float>(dims_[a] - 1);
     const float ga = std::min(std::max(g[a], 0.f), limit);  // NaN -> 0
     int ia = static_cast<int>(ga);
     if (ia >= dims_[a] - 1)
       ia = dims_[a] - 2;
-    i[a] = ia;
-    t[a] = ga - static_cast<float>(ia);
+    cell.i[a] = ia;
+    cell.t[a] = ga - static_cast<float>(ia);
   }
+  cell.base = static_cast<std::size_t>(cell.i[0]) +
+              static_cast<std::size_t>(dims_.x()) *
+                  (static_cast<std::size_t>(cell.i[1]) +
+                   static_cast<std::size_t>(dims_.y()) * static_cast<std::size_t>(cell.i[2]));
+  return cell;
+}
+
+Eigen::Vector3f
+ClosestPointField::interpolateClosest(const Cell& cell) const
+{
   const std::size_t sx = 3, sy = 3 * static_cast<std::size_t>(dims_.x()),
                     sz = sy * static_cast<std::size_t>(dims_.y());
-  const float* n = nodes_.data() + i[0] * sx + i[1] * sy + i[2] * sz;
+  const float* n = nodes_.data() + 3 * cell.base;
+  const float* t = cell.t;
   Eigen::Vector3f out;
   for (int c = 0; c < 3; ++c) {
     const float c00 = n[c] + t[0] * (n[sx + c] - n[c]);
@@ -116,6 +164,42 @@ ClosestPointField::closestPoint(const Eigen::Vector3f& p) const
     out[c] = c0 + t[2] * (c1 - c0);
   }
   return out;
+}
+
+float
+ClosestPointField::interpolateDistance(const Cell& cell) const
+{
+  const std::size_t sy = static_cast<std::size_t>(dims_.x()),
+                    sz = sy * static_cast<std::size_t>(dims_.y());
+  const float* d = distances_.data() + cell.base;
+  const float* t = cell.t;
+  const float c00 = d[0] + t[0] * (d[1] - d[0]);
+  const float c10 = d[sy] + t[0] * (d[sy + 1] - d[sy]);
+  const float c01 = d[sz] + t[0] * (d[sz + 1] - d[sz]);
+  const float c11 = d[sz + sy] + t[0] * (d[sz + sy + 1] - d[sz + sy]);
+  const float c0 = c00 + t[1] * (c10 - c00);
+  const float c1 = c01 + t[1] * (c11 - c01);
+  return c0 + t[2] * (c1 - c0);
+}
+
+Eigen::Vector3f
+ClosestPointField::closestPoint(const Eigen::Vector3f& p) const
+{
+  return interpolateClosest(locate(p));
+}
+
+float
+ClosestPointField::distance(const Eigen::Vector3f& p) const
+{
+  const Cell cell = locate(p);
+  if (medial_[cell.base]) {
+    // Beyond the grid the clamped trilinear distance would understate: add the overshoot.
+    const Eigen::Vector3f g = origin_ + cell_ * Eigen::Vector3f(cell.i[0] + cell.t[0],
+                                                                cell.i[1] + cell.t[1],
+                                                                cell.i[2] + cell.t[2]);
+    return interpolateDistance(cell) + (p - g).norm();
+  }
+  return (p - interpolateClosest(cell)).norm();
 }
 
 }  // namespace icf

@@ -14,9 +14,9 @@ namespace test {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kNearDepth = 1e-4;       ///< metres; hits closer than this are ignored
+constexpr double kNearDepth = 1e-4;         ///< metres; hits closer than this are ignored
 constexpr double kParallelEpsilon = 1e-12;  ///< determinant below which a ray is parallel
-constexpr double kNoiseTruncation = 4.0;  ///< Gaussian noise is resampled beyond this many sigma
+constexpr double kNoiseTruncation = 4.0;    ///< Gaussian noise is resampled beyond this many sigma
 
 /** Nearest hit per pixel: depth (z, metres) and index of the object (-1 for none). */
 struct DepthBuffer {
@@ -46,10 +46,6 @@ void validate(const CameraIntrinsics& intrinsics, const ScanNoise& noise) {
       !(noise.outlier_ratio >= 0.0 && noise.outlier_ratio <= 1.0)) {
     throw std::invalid_argument("depth camera: invalid noise parameters");
   }
-}
-
-Eigen::Vector3d pixelRay(const CameraIntrinsics& in, int u, int v) {
-  return Eigen::Vector3d((u - in.cx) / in.fx, (v - in.cy) / in.fy, 1.0);
 }
 
 /** Pixels whose centres may see the given points (all in front of the camera): the bounding box of
@@ -103,29 +99,41 @@ void castTriangle(const CameraIntrinsics& in, const Eigen::Vector3d& p0, const E
   if (rect.empty()) {
     return;
   }
+  // Moeller-Trumbore with the ray d = (x, y, 1) from the origin. All terms are linear in d, so
+  // they reduce to dot products with vectors precomputed per triangle (plain doubles keep the inner
+  // loop fast in unoptimised builds as well):
+  //   det = e1 . (d x e2) = d . (e2 x e1),   a = s . (d x e2) / det = d . (e2 x s) / det,
+  //   b = d . (s x e1) / det,                t = e2 . (s x e1) / det,   with s = -p0.
   const Eigen::Vector3d e1 = p1 - p0;
   const Eigen::Vector3d e2 = p2 - p0;
-  const Eigen::Vector3d s = -p0;  // ray origin (0) minus p0
+  const Eigen::Vector3d s = -p0;
   const Eigen::Vector3d q = s.cross(e1);
+  const Eigen::Vector3d det_vector = e2.cross(e1);
+  const Eigen::Vector3d a_vector = e2.cross(s);
+  const double t_numerator = e2.dot(q);
+  const double dx = det_vector.x(), dy = det_vector.y(), dz = det_vector.z();
+  const double ax = a_vector.x(), ay = a_vector.y(), az = a_vector.z();
+  const double bx = q.x(), by = q.y(), bz = q.z();
   for (int v = rect.v_min; v <= rect.v_max; ++v) {
+    const double y = (v - in.cy) / in.fy;
+    const std::size_t row = static_cast<std::size_t>(v) * static_cast<std::size_t>(in.width);
     for (int u = rect.u_min; u <= rect.u_max; ++u) {
-      const Eigen::Vector3d d = pixelRay(in, u, v);
-      const Eigen::Vector3d p = d.cross(e2);
-      const double det = e1.dot(p);
+      const double x = (u - in.cx) / in.fx;
+      const double det = dx * x + dy * y + dz;
       if (std::abs(det) < kParallelEpsilon) {
         continue;
       }
       const double inv_det = 1.0 / det;
-      const double a = s.dot(p) * inv_det;
+      const double a = (ax * x + ay * y + az) * inv_det;
       if (a < 0.0 || a > 1.0) {
         continue;
       }
-      const double b = d.dot(q) * inv_det;
+      const double b = (bx * x + by * y + bz) * inv_det;
       if (b < 0.0 || a + b > 1.0) {
         continue;
       }
-      const double t = e2.dot(q) * inv_det;  // = depth z, since d.z() == 1
-      const std::size_t index = static_cast<std::size_t>(v) * in.width + u;
+      const double t = t_numerator * inv_det;  // = depth z, since d.z() == 1
+      const std::size_t index = row + static_cast<std::size_t>(u);
       if (t > kNearDepth && t < buffer.depth[index]) {
         buffer.depth[index] = t;
         buffer.object[index] = object_index;
@@ -173,8 +181,7 @@ DepthBuffer rayCast(const std::vector<SceneObject>& objects, const CameraIntrins
       }
     }
     for (const auto& t : triangulateFaces(*objects[i].mesh)) {
-      castTriangle(in, vertices[t[0]], vertices[t[1]], vertices[t[2]], static_cast<int>(i),
-                   buffer);
+      castTriangle(in, vertices[t[0]], vertices[t[1]], vertices[t[2]], static_cast<int>(i), buffer);
     }
   }
   return buffer;
@@ -196,7 +203,8 @@ std::vector<Eigen::Vector3f> noisyPoints(const DepthBuffer& buffer, const Camera
         continue;
       }
       const double z = buffer.depth[index];
-      const Eigen::Vector3d ray = pixelRay(in, u, v);
+      const double x = (u - in.cx) / in.fx;  // ray (x, y, 1)
+      const double y = (v - in.cy) / in.fy;
       double offset = 0.0;  // metres along the unit ray direction
       const double sigma = noise.sigma_at_1m * z * z;
       if (sigma > 0.0) {
@@ -209,7 +217,9 @@ std::vector<Eigen::Vector3f> noisyPoints(const DepthBuffer& buffer, const Camera
       if (noise.outlier_ratio > 0.0 && unit(rng) < noise.outlier_ratio) {
         offset += outlier(rng);
       }
-      points[index] = (z * ray + offset * ray.normalized()).cast<float>();
+      const double scale = z + offset / std::sqrt(x * x + y * y + 1.0);
+      points[index] = Eigen::Vector3f(static_cast<float>(scale * x), static_cast<float>(scale * y),
+                                      static_cast<float>(scale));
     }
   }
   return points;
@@ -364,7 +374,8 @@ TabletopScene makeTabletopScene(const std::vector<SyntheticModel>& objects,
     Eigen::Isometry3d model_to_table = Eigen::Isometry3d::Identity();
     model_to_table.linear() =
         Eigen::AngleAxisd(table_xy_yaw[i].z(), Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    model_to_table.translation() = Eigen::Vector3d(table_xy_yaw[i].x(), table_xy_yaw[i].y(), -min_z);
+    model_to_table.translation() =
+        Eigen::Vector3d(table_xy_yaw[i].x(), table_xy_yaw[i].y(), -min_z);
     SceneObject object;
     object.mesh = &objects[i].mesh;
     object.pose = scene.table_to_camera * model_to_table;

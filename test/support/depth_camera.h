@@ -1,6 +1,7 @@
 /**
  * \file depth_camera.h
- * \brief A pinhole depth-camera simulator (Kinect-like) producing synthetic scans with ground truth.
+ * \brief A pinhole depth-camera simulator (Kinect-like) producing synthetic scans with ground
+ * truth.
  *
  * Camera frame: x right, y down, z forward (optical axis), metres, origin at the optical centre.
  * Pixel (u, v) (column, row; integer coordinates are pixel centres) sees the ray
@@ -29,8 +30,8 @@ namespace test {
 
 /** \brief Pinhole intrinsics in pixels (defaults: a 640 x 480 Kinect-like camera). */
 struct CameraIntrinsics {
-  int width = 640;   ///< image width, pixels
-  int height = 480;  ///< image height, pixels
+  int width = 640;    ///< image width, pixels
+  int height = 480;   ///< image height, pixels
   double fx = 525.0;  ///< focal length along x, pixels
   double fy = 525.0;  ///< focal length along y, pixels
   double cx = 319.5;  ///< principal point x, pixels
@@ -107,7 +108,7 @@ Eigen::Isometry3d randomTabletopPose(std::mt19937_64& rng, double distance_min =
 
 /** \brief A synthetic table-top scene with ground truth. */
 struct TabletopScene {
-  Scan scan;  ///< labels: 0 table, i + 1 for objects[i], -1 background
+  Scan scan;                             ///< labels: 0 table, i + 1 for objects[i], -1 background
   std::vector<Eigen::Isometry3d> poses;  ///< model -> camera per object (metres)
   std::vector<std::string> names;        ///< SyntheticModel::name per object
   /** Table plane (a, b, c, d) in the camera frame: a x + b y + c z + d = 0 with (a, b, c) a unit

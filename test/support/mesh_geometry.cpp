@@ -27,8 +27,8 @@ pcl::PolygonMesh makeMesh(const std::vector<Eigen::Vector3d>& vertices,
       throw std::invalid_argument("makeMesh: a face needs at least 3 vertices");
     }
     pcl::Vertices polygon;
-    for (const std::uint32_t index : face) {
-      if (index >= vertices.size()) {
+    for (const pcl::index_t index : face) {
+      if (index < 0 || static_cast<std::size_t>(index) >= vertices.size()) {
         throw std::invalid_argument("makeMesh: vertex index " + std::to_string(index) +
                                     " out of range");
       }
@@ -98,7 +98,7 @@ Eigen::AlignedBox3d boundingBox(const pcl::PolygonMesh& mesh) {
 
 void appendMesh(pcl::PolygonMesh& a, const pcl::PolygonMesh& b) {
   auto vertices = meshVertices(a);
-  const auto offset = static_cast<std::uint32_t>(vertices.size());
+  const auto offset = static_cast<pcl::index_t>(vertices.size());
   const auto b_vertices = meshVertices(b);
   vertices.insert(vertices.end(), b_vertices.begin(), b_vertices.end());
   std::vector<Face> faces;

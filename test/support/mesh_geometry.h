@@ -8,25 +8,26 @@
 #pragma once
 
 #include <pcl/PolygonMesh.h>
+#include <pcl/types.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
-#include <cstdint>
 #include <vector>
 
 namespace pcl {
 namespace icf {
 namespace test {
 
-/** \brief A polygon as a list of vertex indices. */
-using Face = std::vector<std::uint32_t>;
+/** \brief A polygon as a list of vertex indices (pcl::index_t, as in pcl::Vertices). */
+using Face = std::vector<pcl::index_t>;
 
 /** \brief A triangle as three vertex indices. */
-using Triangle = std::array<std::uint32_t, 3>;
+using Triangle = std::array<pcl::index_t, 3>;
 
 /** \brief Builds a mesh from vertex positions (metres) and faces (vertex indices).
- *  \throws std::invalid_argument if a face has fewer than 3 vertices or an index is out of range. */
+ *  \throws std::invalid_argument if a face has fewer than 3 vertices or an index is out of range.
+ */
 pcl::PolygonMesh makeMesh(const std::vector<Eigen::Vector3d>& vertices,
                           const std::vector<Face>& faces);
 

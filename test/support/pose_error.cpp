@@ -15,7 +15,9 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-double radToDeg(double rad) { return rad * 180.0 / kPi; }
+double radToDeg(double rad) {
+  return rad * 180.0 / kPi;
+}
 
 bool nearlyEqual(double a, double b) {
   return std::abs(a - b) <= 1e-9 * std::max({std::abs(a), std::abs(b), 1e-12});
@@ -23,7 +25,9 @@ bool nearlyEqual(double a, double b) {
 
 }  // namespace
 
-Symmetry Symmetry::none() { return Symmetry(); }
+Symmetry Symmetry::none() {
+  return Symmetry();
+}
 
 Symmetry Symmetry::box(double sx, double sy, double sz) {
   const double extent[3] = {sx, sy, sz};

@@ -83,8 +83,8 @@ double angleBetweenDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b);
  *   est = truth * S (i.e. R_est = R_true S for some S in the group) gives 0, because S^-1 is in the
  *   group as well.
  * - Axial: angle between the estimated and the true symmetry axis in the scene frame
- *   (R_est a vs R_true a); with axial_flip the result is min(angle, 180 - angle). Rotation about the
- *   axis is ignored.
+ *   (R_est a vs R_true a); with axial_flip the result is min(angle, 180 - angle). Rotation about
+ * the axis is ignored.
  *
  * \param[in] estimated_model_to_scene estimated pose (model -> scene)
  * \param[in] true_model_to_scene ground-truth pose (model -> scene)

@@ -3,7 +3,6 @@
 #include "support/mesh_geometry.h"
 
 #include <cmath>
-#include <cstdint>
 #include <stdexcept>
 
 namespace pcl {
@@ -24,7 +23,7 @@ void requirePositive(double value, const char* what) {
  *  side u x v points to. */
 void addQuad(const Eigen::Vector3d& c, const Eigen::Vector3d& u, const Eigen::Vector3d& v,
              std::vector<Eigen::Vector3d>& vertices, std::vector<Face>& faces) {
-  const auto first = static_cast<std::uint32_t>(vertices.size());
+  const auto first = static_cast<pcl::index_t>(vertices.size());
   vertices.push_back(c - u - v);
   vertices.push_back(c + u - v);
   vertices.push_back(c + u + v);
@@ -43,23 +42,23 @@ void addCapFans(double bottom_radius, double top_radius, double height, int n,
                 std::vector<Eigen::Vector3d>& vertices, std::vector<Face>& faces) {
   const double z0 = -0.5 * height;
   const double z1 = 0.5 * height;
-  const auto un = static_cast<std::uint32_t>(n);
-  const auto bottom_ring = static_cast<std::uint32_t>(vertices.size());
+  const auto un = static_cast<pcl::index_t>(n);
+  const auto bottom_ring = static_cast<pcl::index_t>(vertices.size());
   for (int k = 0; k < n; ++k) {
     vertices.push_back(ringPoint(bottom_radius, k, n, z0));
   }
-  const auto top_ring = static_cast<std::uint32_t>(vertices.size());
+  const auto top_ring = static_cast<pcl::index_t>(vertices.size());
   for (int k = 0; k < n; ++k) {
     vertices.push_back(ringPoint(top_radius, k, n, z1));
   }
-  const auto bottom_centre = static_cast<std::uint32_t>(vertices.size());
+  const auto bottom_centre = static_cast<pcl::index_t>(vertices.size());
   vertices.emplace_back(0.0, 0.0, z0);
   const auto top_centre = bottom_centre + 1;
   vertices.emplace_back(0.0, 0.0, z1);
-  for (std::uint32_t k = 0; k < un; ++k) {  // bottom: clockwise seen from above = outward (-z)
+  for (pcl::index_t k = 0; k < un; ++k) {  // bottom: clockwise seen from above = outward (-z)
     faces.push_back({bottom_centre, bottom_ring + (k + 1) % un, bottom_ring + k});
   }
-  for (std::uint32_t k = 0; k < un; ++k) {  // top: counter-clockwise seen from above (+z)
+  for (pcl::index_t k = 0; k < un; ++k) {  // top: counter-clockwise seen from above (+z)
     faces.push_back({top_centre, top_ring + k, top_ring + (k + 1) % un});
   }
 }
@@ -92,17 +91,18 @@ pcl::PolygonMesh makeBox(double sx, double sy, double sz) {
   return makeMesh(vertices, faces);
 }
 
-pcl::PolygonMesh makeBox5() { return makeBox(0.14, 0.09, 0.05); }
+pcl::PolygonMesh makeBox5() {
+  return makeBox(0.14, 0.09, 0.05);
+}
 
-pcl::PolygonMesh makeFrustum(double bottom_radius, double top_radius, double height,
-                             int segments) {
+pcl::PolygonMesh makeFrustum(double bottom_radius, double top_radius, double height, int segments) {
   requirePositive(bottom_radius, "bottom radius");
   requirePositive(top_radius, "top radius");
   requirePositive(height, "height");
   if (segments < 3) {
     throw std::invalid_argument("makeFrustum: segments must be >= 3");
   }
-  const auto n = static_cast<std::uint32_t>(segments);
+  const auto n = static_cast<pcl::index_t>(segments);
   std::vector<Eigen::Vector3d> vertices;
   std::vector<Face> faces;
   for (int k = 0; k < segments; ++k) {
@@ -112,8 +112,8 @@ pcl::PolygonMesh makeFrustum(double bottom_radius, double top_radius, double hei
     vertices.push_back(ringPoint(top_radius, k, segments, 0.5 * height));
   }
   // Side quad k: tangent (bottom k -> bottom k+1) cross up = outward radial direction.
-  for (std::uint32_t k = 0; k < n; ++k) {
-    const std::uint32_t next = (k + 1) % n;
+  for (pcl::index_t k = 0; k < n; ++k) {
+    const pcl::index_t next = (k + 1) % n;
     faces.push_back({k, next, n + next, n + k});
   }
   addCapFans(bottom_radius, top_radius, height, segments, vertices, faces);
@@ -124,9 +124,13 @@ pcl::PolygonMesh makeCylinder(double radius, double height, int segments) {
   return makeFrustum(radius, radius, height, segments);
 }
 
-pcl::PolygonMesh makeYellowRoundSalt() { return makeCylinder(0.045, 0.13, 32); }
+pcl::PolygonMesh makeYellowRoundSalt() {
+  return makeCylinder(0.045, 0.13, 32);
+}
 
-pcl::PolygonMesh makeEisKaffe() { return makeCylinder(0.05, 0.15, 25); }
+pcl::PolygonMesh makeEisKaffe() {
+  return makeCylinder(0.05, 0.15, 25);
+}
 
 pcl::PolygonMesh makeHexPrism(double circumradius, double height) {
   requirePositive(circumradius, "circumradius");
@@ -135,7 +139,7 @@ pcl::PolygonMesh makeHexPrism(double circumradius, double height) {
   std::vector<Eigen::Vector3d> vertices;
   std::vector<Face> faces;
   for (int k = 0; k < n; ++k) {
-    const auto first = static_cast<std::uint32_t>(vertices.size());
+    const auto first = static_cast<pcl::index_t>(vertices.size());
     vertices.push_back(ringPoint(circumradius, k, n, -0.5 * height));      // first + 0
     vertices.push_back(ringPoint(circumradius, k + 1, n, -0.5 * height));  // first + 1
     vertices.push_back(ringPoint(circumradius, k + 1, n, 0.5 * height));   // first + 2
@@ -147,7 +151,9 @@ pcl::PolygonMesh makeHexPrism(double circumradius, double height) {
   return makeMesh(vertices, faces);
 }
 
-pcl::PolygonMesh makeAmicelly() { return makeHexPrism(0.04, 0.12); }
+pcl::PolygonMesh makeAmicelly() {
+  return makeHexPrism(0.04, 0.12);
+}
 
 pcl::PolygonMesh makeCup(double bottom_radius, double top_radius, double height, int segments) {
   return makeFrustum(bottom_radius, top_radius, height, segments);
@@ -160,7 +166,8 @@ pcl::PolygonMesh makeStatue() {
   pose.translation() = Eigen::Vector3d(0.02, -0.005, 0.015 + 0.045);
   appendMesh(statue, transformMesh(makeBox(0.04, 0.05, 0.09), pose));  // z in [0.015, 0.105]
 
-  pose.linear() = Eigen::AngleAxisd(10.0 * kPi / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.linear() =
+      Eigen::AngleAxisd(10.0 * kPi / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   pose.translation() = Eigen::Vector3d(0.02, -0.005, 0.105 + 0.025);
   appendMesh(statue, transformMesh(makeHexPrism(0.02, 0.05), pose));  // z in [0.105, 0.155]
   return centred(statue);
@@ -197,7 +204,7 @@ SyntheticModel thesisModel(const std::string& name) {
     model.rgb = Eigen::Vector3f(1.00f, 0.70f, 0.10f);  // yellow-orange
   } else if (name == "Cup") {
     model.mesh = makeCup();
-    model.symmetry = Symmetry::cylinder(false);  // wider at the top: no flip symmetry
+    model.symmetry = Symmetry::cylinder(false);        // wider at the top: no flip symmetry
     model.rgb = Eigen::Vector3f(0.95f, 0.95f, 0.95f);  // white
   } else if (name == "Statue") {
     model.mesh = makeStatue();

@@ -56,14 +56,16 @@ public:
   /** \throws std::invalid_argument for absurd parameters or a grid above max_nodes. */
   ClosestPointField(const ClosestFaceQuery& index, const DistanceFieldParams& params = {});
 
-  /** \brief Approximate distance from \a p to the mesh (exact on planar patches). */
-  inline float
-  distance(const Eigen::Vector3f& p) const
-  {
-    return (p - closestPoint(p)).norm();
-  }
+  /** \brief Approximate distance from \a p to the mesh (exact on planar patches): |p - c~|
+   * in cells where the closest point is continuous, the trilinear distance in cells that
+   * straddle a medial axis (where interpolating closest points from opposite sides would put
+   * c~ in mid-air). */
+  float
+  distance(const Eigen::Vector3f& p) const;
 
-  /** \brief Interpolated closest point on the mesh to \a p. */
+  /** \brief Interpolated closest point on the mesh to \a p. Meaningful where the closest
+   * point is continuous (near the surface, on its convex side); across a medial axis it is a
+   * blend of points on different faces. */
   Eigen::Vector3f
   closestPoint(const Eigen::Vector3f& p) const;
 
@@ -71,16 +73,30 @@ public:
   const Eigen::Vector3f& origin() const { return origin_; }
   const Eigen::Vector3i& dimensions() const { return dims_; }
   std::size_t nodeCount() const { return static_cast<std::size_t>(dims_.prod()); }
-  /** \brief Documented bound on |distance(p) - exact(p)| for p inside the grid: half the cell
-   * diagonal (sqrt(3)/2 * cell). The measured error is far below it except in cells that
-   * straddle a sharp edge (see doc/BENCHMARKS.md). */
-  float errorBound() const { return 0.8660254f * cell_; }
+  /** \brief Documented bound on |distance(p) - exact(p)| for p inside the grid: one cell.
+   * Measured (test/distance_field_test.cpp, doc/BENCHMARKS.md): 0 to rounding above flat
+   * patches, and the largest errors, in medial-axis cells, stay below it. */
+  float errorBound() const { return cell_; }
+  /** \brief Share of cells that straddle a medial axis (answered by trilinear distance). */
+  double medialCellRatio() const;
 
 private:
+  struct Cell {
+    int i[3];
+    float t[3];
+    std::size_t base;  // node index of the cell's lowest corner
+  };
+  Cell locate(const Eigen::Vector3f& p) const;
+  void flagMedialCells();
+  Eigen::Vector3f interpolateClosest(const Cell& c) const;
+  float interpolateDistance(const Cell& c) const;
+
   Eigen::Vector3f origin_ = Eigen::Vector3f::Zero();
   Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();  // nodes per axis
   float cell_ = 0.f, inv_cell_ = 0.f;
-  std::vector<float> nodes_;  // closest points, xyz interleaved, x fastest
+  std::vector<float> nodes_;      // closest points, xyz interleaved, x fastest
+  std::vector<float> distances_;  // exact distance at each node
+  std::vector<std::uint8_t> medial_;  // per cell (indexed by its lowest node): 1 = straddles
 };
 
 }  // namespace icf

@@ -1,0 +1,126 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#pragma once
+
+#include <pcl/icf/global_search.h>
+#include <pcl/icf/icf_model.h>
+#include <pcl/icf/objective.h>
+#include <pcl/icf/pose_verification.h>
+#include <pcl/icf/refinement.h>
+#include <pcl/icf/thesis_search.h>
+
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pcl {
+namespace icf {
+
+/** \brief How the pose is searched when there is no initial guess. */
+enum class SearchStrategy {
+  Fast,    ///< uniform SO(3) x visible-centroid placement on the field (doc/icf.md section 4)
+  Thesis,  ///< the thesis's three-loop stochastic kernel search (section 7)
+};
+
+/** \brief Parse "fast" / "thesis"; throws std::invalid_argument otherwise. */
+SearchStrategy
+parseSearchStrategy(const std::string& name);
+std::string
+toString(SearchStrategy strategy);
+
+/** \brief When a pose is accepted (hasConverged() is true). Lengths in scene units. */
+struct AcceptanceParams {
+  /** Scene points within this distance of the posed model are inliers; a visible model
+   * sample with a scene point within it is covered. */
+  float inlier_distance = 0.01f;
+  /** At least this share of the model's camera-facing surface must be covered. This, not the
+   * share of the cluster explained, decides: a cluster that holds other objects too can
+   * still be accepted when the target is well explained. */
+  double min_surface_coverage = 0.6;
+  /** RMS distance of the inliers at most this. */
+  double max_rmse = 0.006;
+  /** At least this many inliers. */
+  std::size_t min_inliers = 30;
+  /** Also apply the thesis's gate (section 6.2): reject when more than gate_max_far_points
+   * points lie farther than gate_distance (27 mm). Off by default: it assumes the cluster
+   * holds nothing but the target. */
+  bool thesis_gate = false;
+  float gate_distance = 0.027f;
+  int gate_max_far_points = 5;
+  VisibilityParams visibility;
+
+  void validate() const;
+};
+
+/** \brief Everything estimatePose needs besides the data. Defaults documented per field;
+ * lengths in scene units (metres). */
+struct IcfParams {
+  SearchStrategy strategy = SearchStrategy::Fast;
+  GlobalSearchParams global;
+  ThesisSearchParams thesis;
+  ThesisObjectiveParams objective;
+  RefinementParams refinement;
+  /** Best hypotheses of the fast search refined with exact faces before the final choice. */
+  std::size_t exact_candidates = 3;
+  /** Points per iteration when refining those candidates (the final refinement uses
+   * refinement.max_points). */
+  std::size_t candidate_points = 1000;
+  AcceptanceParams acceptance;
+  std::uint64_t seed = 42;
+  int threads = 0;  ///< 0: all cores. Results do not depend on it.
+
+  /** \throws std::invalid_argument naming the field and value. */
+  void validate() const;
+};
+
+/** \brief Outcome of one estimation. */
+enum class IcfStatus {
+  NotRun,        ///< nothing estimated yet
+  Accepted,      ///< the pose passed the acceptance test
+  Rejected,      ///< a pose was found but failed the acceptance test
+  TooFewPoints,  ///< fewer finite scene points than needed (see IcfResult::points)
+  NoModel,       ///< no mesh was given
+};
+std::string
+toString(IcfStatus status);
+
+/** \brief The result of estimatePose / IterativeClosestFace::getResult. */
+struct IcfResult {
+  IcfStatus status = IcfStatus::NotRun;
+  /** Registration transform: scene points into the model frame (PCL's source -> target). */
+  Eigen::Matrix4f scene_to_model = Eigen::Matrix4f::Identity();
+  /** The model's pose in the scene (model frame -> scene frame): the inverse. */
+  Eigen::Matrix4f object_pose = Eigen::Matrix4f::Identity();
+  PoseQuality quality;           ///< measured at the final pose with exact distances
+  std::string method;            ///< "fast+icf", "thesis+icf", "guess+icf"
+  int refinement_iterations = 0;
+  bool refinement_converged = false;
+  std::size_t points = 0;        ///< finite scene points used
+  double search_score = 0.0;     ///< the search's own score of its best hypothesis
+  double time_ms = 0.0;
+
+  bool accepted() const { return status == IcfStatus::Accepted; }
+};
+
+/** \brief Estimate the model's pose in a cluster of scene points (doc/icf.md): search (or
+ * start from \a guess), refine by iterative closest face, measure, accept or reject.
+ *
+ * \param scene_points finite points of one cluster, scene frame and units
+ * \param camera the sensor's position in the scene frame (visibility)
+ * \param guess optional scene-to-model start; then only the refinement runs
+ * Deterministic for params.seed and independent of params.threads. */
+IcfResult
+estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
+             const Eigen::Vector3f& camera, const IcfParams& params,
+             const Eigen::Isometry3f* guess = nullptr, const IterationCallback& callback = {});
+
+/** \brief Apply the acceptance rule to a measured quality. */
+bool
+isAcceptable(const PoseQuality& quality, const AcceptanceParams& params);
+
+}  // namespace icf
+}  // namespace pcl

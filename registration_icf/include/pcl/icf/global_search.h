@@ -1,0 +1,74 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#pragma once
+
+#include <pcl/icf/icf_model.h>
+#include <pcl/icf/refinement.h>
+
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <vector>
+
+namespace pcl {
+namespace icf {
+
+/** \brief Parameters of the fast global search (doc/icf.md section 4). Lengths in scene units. */
+struct GlobalSearchParams {
+  /** Rotations sampled uniformly over SO(3) (super-Fibonacci); 3000 gives a covering radius
+   * of about 8.4 degrees, well inside the refinement's basin. */
+  std::size_t rotations = 3000;
+  /** Scene points scored per hypothesis (a seeded random subset). */
+  std::size_t subsample = 256;
+  /** Model surface samples used to place each rotation's visible centroid. */
+  std::size_t centroid_samples = 512;
+  /** Kernel scale of the coarse score (eq. 4): tolerant of the rotation grid's spacing. */
+  float coarse_kernel = 0.02f;
+  /** Hypotheses kept after the coarse pass and refined on the field. */
+  std::size_t keep = 12;
+  /** Two kept hypotheses closer than this (rotation, radians) and ... */
+  float distinct_rotation = 0.2f;
+  /** ... this (translation, scene units) count as one. */
+  float distinct_translation = 0.02f;
+  /** The cheap refinement of each kept hypothesis on the field. */
+  RefinementParams field_refinement = defaultFieldRefinement();
+  /** Kernel scale of the score that ranks the refined hypotheses. */
+  float fine_kernel = 0.008f;
+
+  static RefinementParams defaultFieldRefinement();
+  /** \throws std::invalid_argument naming the field and value. */
+  void validate() const;
+};
+
+/** \brief One pose hypothesis: the registration transform (scene -> model) and its score. */
+struct PoseHypothesis {
+  Eigen::Isometry3f scene_to_model = Eigen::Isometry3f::Identity();
+  double score = 0.0;
+};
+
+/** \brief Global search without an initial guess (doc/icf.md section 4).
+ *
+ * For every rotation R of a uniform SO(3) set, the model is placed so that the centroid of its
+ * camera-facing surface (projected-area weighted) falls on the centroid of the scene points,
+ * which corrects for the camera seeing only the near side; the pose is scored on a subsample
+ * through the closest-point field with the kernel of eq. 4. The best distinct hypotheses are
+ * refined on the field and re-scored with a finer kernel. Returns them best first.
+ * Deterministic for a seed; independent of the thread count. */
+std::vector<PoseHypothesis>
+globalSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
+             const Eigen::Vector3f& camera, const GlobalSearchParams& params,
+             std::uint64_t seed, int threads = 1);
+
+/** \brief Kernel score (eq. 4) of a pose over points, distances from the field. */
+double
+fieldKernelScore(const ClosestPointField& field, const std::vector<Eigen::Vector3f>& scene_points,
+                 const Eigen::Isometry3f& scene_to_model, float kernel);
+
+/** \brief A seeded random subset of \a count points (all of them when there are fewer). */
+std::vector<Eigen::Vector3f>
+randomSubset(const std::vector<Eigen::Vector3f>& points, std::size_t count, std::uint64_t seed);
+
+}  // namespace icf
+}  // namespace pcl

@@ -1,0 +1,59 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#pragma once
+
+#include <pcl/icf/closest_face_query.h>
+#include <pcl/icf/distance_field.h>
+#include <pcl/icf/face_mesh.h>
+
+#include <memory>
+
+namespace pcl {
+namespace icf {
+
+/** \brief Options for preparing a model. */
+struct IcfModelParams {
+  FaceMeshOptions mesh;        ///< unit scale and tolerances of the faces
+  DistanceFieldParams field;   ///< the scoring field
+  std::size_t surface_samples = 4000;  ///< area-weighted samples (visibility, coverage, base target)
+  std::uint64_t seed = 1;      ///< for the samples
+};
+
+/** \brief A model ready for pose estimation: the faces, the exact index, the closest-point
+ * field and surface samples with normals, built once and shared by every cluster and thread.
+ *
+ * Building costs about a second for 100k faces (the field dominates); queries are const and
+ * thread-safe. Non-copyable (the index refers to the faces); hold it by shared_ptr. */
+class IcfModel {
+public:
+  using Ptr = std::shared_ptr<IcfModel>;
+  using ConstPtr = std::shared_ptr<const IcfModel>;
+
+  /** \throws InvalidMeshError for a mesh that cannot be a model, std::invalid_argument for
+   * absurd parameters. */
+  static ConstPtr
+  build(const pcl::PolygonMesh& mesh, const IcfModelParams& params = {});
+
+  const FaceMesh& mesh() const { return *mesh_; }
+  const ClosestFaceQuery& index() const { return *index_; }
+  const ClosestPointField& field() const { return *field_; }
+  const std::vector<SurfaceSample>& samples() const { return samples_; }
+  /** \brief Radius of the bounding sphere about the surface centroid. */
+  float radius() const { return radius_; }
+
+  IcfModel(const IcfModel&) = delete;
+  IcfModel& operator=(const IcfModel&) = delete;
+
+private:
+  IcfModel() = default;
+  std::unique_ptr<FaceMesh> mesh_;
+  std::unique_ptr<ClosestFaceQuery> index_;
+  std::unique_ptr<ClosestPointField> field_;
+  std::vector<SurfaceSample> samples_;
+  float radius_ = 0.f;
+};
+
+}  // namespace icf
+}  // namespace pcl

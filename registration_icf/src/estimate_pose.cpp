@@ -1,0 +1,218 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#include <pcl/icf/estimate_pose.h>
+
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace pcl {
+namespace icf {
+
+SearchStrategy
+parseSearchStrategy(const std::string& name)
+{
+  if (name == "fast")
+    return SearchStrategy::Fast;
+  if (name == "thesis")
+    return SearchStrategy::Thesis;
+  throw std::invalid_argument("unknown search strategy '" + name + "' (expected fast or thesis)");
+}
+
+std::string
+toString(SearchStrategy strategy)
+{
+  return strategy == SearchStrategy::Fast ? "fast" : "thesis";
+}
+
+std::string
+toString(IcfStatus status)
+{
+  switch (status) {
+  case IcfStatus::NotRun:
+    return "not run";
+  case IcfStatus::Accepted:
+    return "accepted";
+  case IcfStatus::Rejected:
+    return "rejected";
+  case IcfStatus::TooFewPoints:
+    return "too few points";
+  case IcfStatus::NoModel:
+    return "no model";
+  }
+  return "unknown";
+}
+
+void
+ThesisObjectiveParams::validate() const
+{
+  auto fail = [](const char* field, double value, const char* rule) {
+    std::ostringstream msg;
+    msg << "ThesisObjectiveParams::" << field << " = " << value << ": " << rule;
+    throw std::invalid_argument(msg.str());
+  };
+  if (!(near_distance > 0.f) || !std::isfinite(near_distance))
+    fail("near_distance", near_distance, "must be positive and finite");
+  if (!(far_factor >= 1.f) || !std::isfinite(far_factor))
+    fail("far_factor", far_factor, "must be finite and >= 1");
+  if (!(cutoff > 0.f) || !std::isfinite(cutoff))
+    fail("cutoff", cutoff, "must be positive and finite");
+  if (!(early_exit_distance > 0.f) || !std::isfinite(early_exit_distance))
+    fail("early_exit_distance", early_exit_distance, "must be positive and finite");
+  if (early_exit_count < 0)
+    fail("early_exit_count", early_exit_count, "must be >= 0");
+}
+
+void
+AcceptanceParams::validate() const
+{
+  auto fail = [](const char* field, double value, const char* rule) {
+    std::ostringstream msg;
+    msg << "AcceptanceParams::" << field << " = " << value << ": " << rule;
+    throw std::invalid_argument(msg.str());
+  };
+  if (!(inlier_distance > 0.f) || !std::isfinite(inlier_distance))
+    fail("inlier_distance", inlier_distance, "must be positive and finite");
+  if (!(min_surface_coverage >= 0.0 && min_surface_coverage <= 1.0))
+    fail("min_surface_coverage", min_surface_coverage, "must lie in [0, 1]");
+  if (!(max_rmse > 0.0) || !std::isfinite(max_rmse))
+    fail("max_rmse", max_rmse, "must be positive and finite");
+  if (!(gate_distance > 0.f) || !std::isfinite(gate_distance))
+    fail("gate_distance", gate_distance, "must be positive and finite");
+  if (gate_max_far_points < 0)
+    fail("gate_max_far_points", gate_max_far_points, "must be >= 0");
+  visibility.validate();
+}
+
+void
+IcfParams::validate() const
+{
+  global.validate();
+  thesis.validate();
+  objective.validate();
+  refinement.validate();
+  acceptance.validate();
+  if (exact_candidates < 1)
+    throw std::invalid_argument("IcfParams::exact_candidates = 0: must be at least 1");
+  if (threads < 0 || threads > 1024)
+    throw std::invalid_argument("IcfParams::threads = " + std::to_string(threads) +
+                                ": must lie in [0, 1024] (0 = all cores)");
+}
+
+bool
+isAcceptable(const PoseQuality& q, const AcceptanceParams& p)
+{
+  if (q.inliers < p.min_inliers || q.surface_coverage < p.min_surface_coverage ||
+      q.rmse > p.max_rmse)
+    return false;
+  return !p.thesis_gate || q.far_points <= p.gate_max_far_points;
+}
+
+namespace {
+
+double
+exactKernelScore(const ClosestFaceQuery& index, const std::vector<Eigen::Vector3f>& points,
+                 const Eigen::Isometry3f& scene_to_model, float kernel)
+{
+  double score = 0.0;
+  for (const auto& x : points)
+    score += kernelScore(index.closestFace(scene_to_model * x, kernel).distance, kernel);
+  return score;
+}
+
+/** The fast strategy's start for the final refinement: the global search's best hypotheses,
+ * each refined with exact faces on a subset, the best by the fine kernel. */
+PoseHypothesis
+fastSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& points,
+           const Eigen::Vector3f& camera, const IcfParams& params, int threads)
+{
+  const std::vector<PoseHypothesis> hypotheses =
+      globalSearch(model, points, camera, params.global, params.seed, threads);
+  const std::vector<Eigen::Vector3f> subset =
+      randomSubset(points, params.candidate_points, params.seed + 1);
+  const std::size_t n = std::min(params.exact_candidates, hypotheses.size());
+  std::vector<PoseHypothesis> refined(n);
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
+  for (int k = 0; k < static_cast<int>(n); ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    refined[i].scene_to_model =
+        refinePose(model.index(), subset, hypotheses[i].scene_to_model, params.refinement, 1)
+            .scene_to_model;
+    refined[i].score = exactKernelScore(model.index(), subset, refined[i].scene_to_model,
+                                        params.global.fine_kernel);
+  }
+  PoseHypothesis best;
+  best.score = -1.0;
+  for (const auto& h : refined)
+    if (h.score > best.score)
+      best = h;
+  return best;
+}
+
+}  // namespace
+
+IcfResult
+estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
+             const Eigen::Vector3f& camera, const IcfParams& params,
+             const Eigen::Isometry3f* guess, const IterationCallback& callback)
+{
+  params.validate();
+  const auto start = std::chrono::steady_clock::now();
+  IcfResult result;
+  std::vector<Eigen::Vector3f> points;
+  points.reserve(scene_points.size());
+  for (const auto& p : scene_points)
+    if (p.allFinite())
+      points.push_back(p);
+  result.points = points.size();
+  if (points.size() < std::max<std::size_t>(params.acceptance.min_inliers, 6)) {
+    result.status = IcfStatus::TooFewPoints;
+    return result;
+  }
+  if (guess && !guess->matrix().allFinite())
+    throw std::invalid_argument("estimatePose: the initial guess has a non-finite entry");
+  const int threads = params.threads > 0 ? params.threads : omp_get_num_procs();
+
+  Eigen::Isometry3f start_pose = Eigen::Isometry3f::Identity();
+  if (guess) {
+    start_pose = *guess;
+    result.method = "guess+icf";
+  }
+  else if (params.strategy == SearchStrategy::Thesis) {
+    const PoseHypothesis h =
+        thesisSearch(model, points, params.thesis, params.objective, params.seed, threads);
+    start_pose = h.scene_to_model;
+    result.search_score = h.score;
+    result.method = "thesis+icf";
+  }
+  else {
+    const PoseHypothesis h = fastSearch(model, points, camera, params, threads);
+    start_pose = h.scene_to_model;
+    result.search_score = h.score;
+    result.method = "fast+icf";
+  }
+
+  const RefinementResult refined =
+      refinePose(model.index(), points, start_pose, params.refinement, threads, callback);
+  result.refinement_iterations = refined.iterations;
+  result.refinement_converged = refined.converged;
+  result.scene_to_model = refined.scene_to_model.matrix();
+  result.object_pose = refined.scene_to_model.inverse().matrix();
+  result.quality = measurePoseQuality(model, points, refined.scene_to_model, camera,
+                                      params.acceptance.inlier_distance,
+                                      params.acceptance.gate_distance, params.objective,
+                                      params.acceptance.visibility, threads);
+  result.status =
+      isAcceptable(result.quality, params.acceptance) ? IcfStatus::Accepted : IcfStatus::Rejected;
+  result.time_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace icf
+}  // namespace pcl

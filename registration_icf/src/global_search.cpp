@@ -1,0 +1,186 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#include <pcl/icf/global_search.h>
+#include <pcl/icf/objective.h>
+#include <pcl/icf/rotation_sampling.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+namespace pcl {
+namespace icf {
+
+RefinementParams
+GlobalSearchParams::defaultFieldRefinement()
+{
+  RefinementParams p;
+  p.max_iterations = 12;
+  p.initial_inlier_distance = 0.03f;
+  p.inlier_shrink = 0.75f;
+  p.final_inlier_distance = 0.008f;
+  return p;
+}
+
+void
+GlobalSearchParams::validate() const
+{
+  auto fail = [](const char* field, double value, const char* rule) {
+    std::ostringstream msg;
+    msg << "GlobalSearchParams::" << field << " = " << value << ": " << rule;
+    throw std::invalid_argument(msg.str());
+  };
+  if (rotations < 1 || rotations > 10000000)
+    fail("rotations", static_cast<double>(rotations), "must lie in [1, 1e7]");
+  if (subsample < 3)
+    fail("subsample", static_cast<double>(subsample), "must be at least 3");
+  if (centroid_samples < 1)
+    fail("centroid_samples", static_cast<double>(centroid_samples), "must be at least 1");
+  if (!(coarse_kernel > 0.f) || !std::isfinite(coarse_kernel))
+    fail("coarse_kernel", coarse_kernel, "must be positive and finite");
+  if (!(fine_kernel > 0.f) || !std::isfinite(fine_kernel))
+    fail("fine_kernel", fine_kernel, "must be positive and finite");
+  if (keep < 1 || keep > rotations)
+    fail("keep", static_cast<double>(keep), "must lie in [1, rotations]");
+  if (!(distinct_rotation >= 0.f) || !(distinct_translation >= 0.f))
+    fail("distinct_*", -1, "must be >= 0");
+  field_refinement.validate();
+}
+
+std::vector<Eigen::Vector3f>
+randomSubset(const std::vector<Eigen::Vector3f>& points, std::size_t count, std::uint64_t seed)
+{
+  if (points.size() <= count)
+    return points;
+  std::vector<std::size_t> order(points.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::mt19937_64 rng(seed);
+  // Partial Fisher-Yates with our own draws: the same subset on every standard library.
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::size_t j = i + static_cast<std::size_t>(rng() % (points.size() - i));
+    std::swap(order[i], order[j]);
+  }
+  order.resize(count);
+  std::sort(order.begin(), order.end());
+  std::vector<Eigen::Vector3f> subset;
+  subset.reserve(count);
+  for (std::size_t i : order)
+    subset.push_back(points[i]);
+  return subset;
+}
+
+double
+fieldKernelScore(const ClosestPointField& field, const std::vector<Eigen::Vector3f>& scene_points,
+                 const Eigen::Isometry3f& scene_to_model, float kernel)
+{
+  double score = 0.0;
+  for (const Eigen::Vector3f& x : scene_points)
+    score += kernelScore(field.distance(scene_to_model * x), kernel);
+  return score;
+}
+
+namespace {
+
+/** Model-frame centroid of the surface the camera sees along \a view (model frame), weighted
+ * by projected area; the surface centroid when nothing faces the camera. */
+Eigen::Vector3f
+visibleCentroid(const IcfModel& model, std::size_t samples, const Eigen::Vector3f& view)
+{
+  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+  float weight = 0.f;
+  const std::size_t n = std::min(samples, model.samples().size());
+  for (std::size_t i = 0; i < n; ++i) {
+    const float w = -model.samples()[i].normal.dot(view);
+    if (w > 0.f) {
+      sum += w * model.samples()[i].point;
+      weight += w;
+    }
+  }
+  return weight > 0.f ? Eigen::Vector3f(sum / weight) : model.mesh().surfaceCentroid();
+}
+
+bool
+isDistinct(const PoseHypothesis& h, const std::vector<PoseHypothesis>& kept, float rotation,
+           float translation)
+{
+  for (const PoseHypothesis& k : kept) {
+    const Eigen::Isometry3f delta = h.scene_to_model * k.scene_to_model.inverse();
+    const float angle = Eigen::AngleAxisf(delta.linear()).angle();
+    const Eigen::Isometry3f a = h.scene_to_model.inverse(), b = k.scene_to_model.inverse();
+    if (angle < rotation && (a.translation() - b.translation()).norm() < translation)
+      return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::vector<PoseHypothesis>
+globalSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
+             const Eigen::Vector3f& camera, const GlobalSearchParams& params, std::uint64_t seed,
+             int threads)
+{
+  params.validate();
+  if (scene_points.empty())
+    return {};
+  const std::vector<Eigen::Vector3f> subset = randomSubset(scene_points, params.subsample, seed);
+  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+  for (const auto& p : scene_points)
+    centroid += p;
+  centroid /= static_cast<float>(scene_points.size());
+  Eigen::Vector3f view = centroid - camera;
+  view = view.norm() > 1e-9f ? Eigen::Vector3f(view.normalized()) : Eigen::Vector3f::UnitZ();
+
+  // Coarse pass: every rotation, placed by its visible centroid, scored on the field.
+  const std::vector<Eigen::Quaternionf> rotations =
+      uniformRotations(params.rotations, seed ^ 0x9e3779b97f4a7c15ULL);
+  std::vector<PoseHypothesis> coarse(rotations.size());
+  const int count = static_cast<int>(rotations.size());
+#pragma omp parallel for schedule(static) num_threads(std::max(1, threads))
+  for (int k = 0; k < count; ++k) {
+    const Eigen::Matrix3f R = rotations[static_cast<std::size_t>(k)].toRotationMatrix();
+    const Eigen::Vector3f c = visibleCentroid(model, params.centroid_samples, R.transpose() * view);
+    Eigen::Isometry3f model_to_scene = Eigen::Isometry3f::Identity();
+    model_to_scene.linear() = R;
+    model_to_scene.translation() = centroid - R * c;
+    PoseHypothesis& h = coarse[static_cast<std::size_t>(k)];
+    h.scene_to_model = model_to_scene.inverse();
+    h.score = fieldKernelScore(model.field(), subset, h.scene_to_model, params.coarse_kernel);
+  }
+  std::vector<std::size_t> order(coarse.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return coarse[a].score > coarse[b].score;
+  });
+  std::vector<PoseHypothesis> kept;
+  for (std::size_t i : order) {
+    if (kept.size() >= params.keep)
+      break;
+    if (isDistinct(coarse[i], kept, params.distinct_rotation, params.distinct_translation))
+      kept.push_back(coarse[i]);
+  }
+
+  // Fine pass: refine each kept hypothesis on the field, re-score with the fine kernel.
+  const Eigen::Vector3f pivot = model.mesh().surfaceCentroid();
+  const double scale = std::max(1e-3f, model.radius());
+  const int n = static_cast<int>(kept.size());
+#pragma omp parallel for schedule(dynamic) num_threads(std::max(1, threads))
+  for (int k = 0; k < n; ++k) {
+    PoseHypothesis& h = kept[static_cast<std::size_t>(k)];
+    h.scene_to_model = refinePoseOnField(model.field(), pivot, scale, subset, h.scene_to_model,
+                                         params.field_refinement)
+                           .scene_to_model;
+    h.score = fieldKernelScore(model.field(), subset, h.scene_to_model, params.fine_kernel);
+  }
+  std::stable_sort(kept.begin(), kept.end(),
+                   [](const PoseHypothesis& a, const PoseHypothesis& b) { return a.score > b.score; });
+  return kept;
+}
+
+}  // namespace icf
+}  // namespace pcl

@@ -1,0 +1,31 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#include <pcl/icf/icf_model.h>
+
+namespace pcl {
+namespace icf {
+
+IcfModel::ConstPtr
+IcfModel::build(const pcl::PolygonMesh& mesh, const IcfModelParams& params)
+{
+  params.field.validate();
+  if (params.surface_samples < 100 || params.surface_samples > 10000000)
+    throw std::invalid_argument("IcfModelParams::surface_samples = " +
+                                std::to_string(params.surface_samples) +
+                                ": must lie in [100, 1e7]");
+  std::shared_ptr<IcfModel> model(new IcfModel());
+  model->mesh_ = std::make_unique<FaceMesh>(FaceMesh::build(mesh, params.mesh));
+  model->index_ = std::make_unique<EmbreeClosestFaceIndex>(*model->mesh_);
+  model->field_ = std::make_unique<ClosestPointField>(*model->index_, params.field);
+  model->samples_ = sampleSurface(*model->mesh_, params.surface_samples, params.seed);
+  const Eigen::Vector3f& c = model->mesh_->surfaceCentroid();
+  for (const Eigen::Vector3f& v : model->mesh_->vertices())
+    if (v.allFinite())
+      model->radius_ = std::max(model->radius_, (v - c).norm());
+  return model;
+}
+
+}  // namespace icf
+}  // namespace pcl

@@ -45,8 +45,11 @@ GlobalSearchParams::validate() const
     fail("coarse_kernel", coarse_kernel, "must be positive and finite");
   if (!(fine_kernel > 0.f) || !std::isfinite(fine_kernel))
     fail("fine_kernel", fine_kernel, "must be positive and finite");
-  if (keep < 1 || keep > rotations)
-    fail("keep", static_cast<double>(keep), "must lie in [1, rotations]");
+  if (keep < 1)
+    fail("keep", static_cast<double>(keep), "must be at least 1");
+  if (!(merged_cluster_ratio > 0.f) || local_anchors > 1000)
+    fail("merged_cluster_ratio / local_anchors", merged_cluster_ratio,
+         "ratio must be positive and local_anchors at most 1000");
   if (!(distinct_rotation >= 0.f) || !(distinct_translation >= 0.f))
     fail("distinct_*", -1, "must be >= 0");
   field_refinement.validate();
@@ -82,6 +85,43 @@ fieldKernelScore(const ClosestPointField& field, const std::vector<Eigen::Vector
   for (const Eigen::Vector3f& x : scene_points)
     score += kernelScore(field.distance(scene_to_model * x), kernel);
   return score;
+}
+
+std::vector<Eigen::Vector3f>
+translationAnchors(const std::vector<Eigen::Vector3f>& points, float model_radius,
+                   const GlobalSearchParams& params)
+{
+  Eigen::Vector3f centroid = Eigen::Vector3f::Zero(), lo = points.front(), hi = lo;
+  for (const auto& p : points) {
+    centroid += p;
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  centroid /= static_cast<float>(points.size());
+  std::vector<Eigen::Vector3f> anchors{centroid};
+  if ((hi - lo).norm() <= params.merged_cluster_ratio * 2.f * model_radius)
+    return anchors;
+  // Farthest-point seeds from the centroid, each replaced by the mean of its neighbourhood.
+  std::vector<float> nearest(points.size(), std::numeric_limits<float>::max());
+  Eigen::Vector3f seed = centroid;
+  for (std::size_t a = 0; a < params.local_anchors; ++a) {
+    std::size_t farthest = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      nearest[i] = std::min(nearest[i], (points[i] - seed).norm());
+      if (nearest[i] > nearest[farthest])
+        farthest = i;
+    }
+    seed = points[farthest];
+    Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+    int count = 0;
+    for (const auto& p : points)
+      if ((p - seed).norm() < model_radius) {
+        sum += p;
+        ++count;
+      }
+    anchors.push_back(sum / static_cast<float>(std::max(count, 1)));
+  }
+  return anchors;
 }
 
 namespace {
@@ -129,25 +169,26 @@ globalSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_po
   if (scene_points.empty())
     return {};
   const std::vector<Eigen::Vector3f> subset = randomSubset(scene_points, params.subsample, seed);
-  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
-  for (const auto& p : scene_points)
-    centroid += p;
-  centroid /= static_cast<float>(scene_points.size());
-  Eigen::Vector3f view = centroid - camera;
+  const std::vector<Eigen::Vector3f> anchors =
+      translationAnchors(scene_points, model.radius(), params);
+  Eigen::Vector3f view = anchors.front() - camera;
   view = view.norm() > 1e-9f ? Eigen::Vector3f(view.normalized()) : Eigen::Vector3f::UnitZ();
 
-  // Coarse pass: every rotation, placed by its visible centroid, scored on the field.
+  // Coarse pass: every rotation at every anchor, placed by its visible centroid, scored on
+  // the field.
   const std::vector<Eigen::Quaternionf> rotations =
       uniformRotations(params.rotations, seed ^ 0x9e3779b97f4a7c15ULL);
-  std::vector<PoseHypothesis> coarse(rotations.size());
-  const int count = static_cast<int>(rotations.size());
+  std::vector<PoseHypothesis> coarse(rotations.size() * anchors.size());
+  const int count = static_cast<int>(coarse.size());
 #pragma omp parallel for schedule(static) num_threads(std::max(1, threads))
   for (int k = 0; k < count; ++k) {
-    const Eigen::Matrix3f R = rotations[static_cast<std::size_t>(k)].toRotationMatrix();
+    const std::size_t r = static_cast<std::size_t>(k) % rotations.size();
+    const Eigen::Vector3f& anchor = anchors[static_cast<std::size_t>(k) / rotations.size()];
+    const Eigen::Matrix3f R = rotations[r].toRotationMatrix();
     const Eigen::Vector3f c = visibleCentroid(model, params.centroid_samples, R.transpose() * view);
     Eigen::Isometry3f model_to_scene = Eigen::Isometry3f::Identity();
     model_to_scene.linear() = R;
-    model_to_scene.translation() = centroid - R * c;
+    model_to_scene.translation() = anchor - R * c;
     PoseHypothesis& h = coarse[static_cast<std::size_t>(k)];
     h.scene_to_model = model_to_scene.inverse();
     h.score = fieldKernelScore(model.field(), subset, h.scene_to_model, params.coarse_kernel);

@@ -24,6 +24,12 @@ struct GlobalSearchParams {
   std::size_t subsample = 256;
   /** Model surface samples used to place each rotation's visible centroid. */
   std::size_t centroid_samples = 512;
+  /** When the scene points spread wider than merged_cluster_ratio x the model's diameter the
+   * cluster probably holds other objects too: besides the centroid of all points, the search
+   * also places the model at up to local_anchors local centroids (the mean of the points
+   * within the model's radius of farthest-point seeds). */
+  float merged_cluster_ratio = 1.2f;
+  std::size_t local_anchors = 6;
   /** Kernel scale of the coarse score (eq. 4): tolerant of the rotation grid's spacing. */
   float coarse_kernel = 0.02f;
   /** Hypotheses kept after the coarse pass and refined on the field. */
@@ -52,7 +58,8 @@ struct PoseHypothesis {
  *
  * For every rotation R of a uniform SO(3) set, the model is placed so that the centroid of its
  * camera-facing surface (projected-area weighted) falls on the centroid of the scene points,
- * which corrects for the camera seeing only the near side; the pose is scored on a subsample
+ * which corrects for the camera seeing only the near side (for a cluster much wider than the
+ * model, on local centroids too); the pose is scored on a subsample
  * through the closest-point field with the kernel of eq. 4. The best distinct hypotheses are
  * refined on the field and re-scored with a finer kernel. Returns them best first.
  * Deterministic for a seed; independent of the thread count. */
@@ -65,6 +72,12 @@ globalSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_po
 double
 fieldKernelScore(const ClosestPointField& field, const std::vector<Eigen::Vector3f>& scene_points,
                  const Eigen::Isometry3f& scene_to_model, float kernel);
+
+/** \brief Where the model's visible centroid is placed: the centroid of all points and, for a
+ * cluster wider than merged_cluster_ratio x the model's diameter, local centroids. */
+std::vector<Eigen::Vector3f>
+translationAnchors(const std::vector<Eigen::Vector3f>& points, float model_radius,
+                   const GlobalSearchParams& params);
 
 /** \brief A seeded random subset of \a count points (all of them when there are fewer). */
 std::vector<Eigen::Vector3f>

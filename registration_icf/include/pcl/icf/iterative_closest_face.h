@@ -16,8 +16,12 @@ namespace pcl {
  * target) without an initial guess, by point-to-face distance (doc/icf.md; the method of
  * Sannino's 2013 thesis, made fast).
  *
- * A pcl::Registration, so it stands beside pcl::IterativeClosestPoint behind a
- * pcl::Registration::Ptr. getFinalTransformation() maps the source into the model frame, as
+ * A pcl::Registration<PointSource, PointSource>, so it stands beside
+ * pcl::IterativeClosestPoint<PointSource, PointSource> behind the same pcl::Registration::Ptr.
+ * (The target point type is PointSource, not PointXYZ: PCL 1.13's Registration::initCompute
+ * does not compile when the source and target types differ, because
+ * CorrespondenceEstimationBase types its reciprocal kd-tree on the target. The base's target
+ * cloud holds the mesh's surface samples, xyz and, where the type has them, normals.) getFinalTransformation() maps the source into the model frame, as
  * PCL defines registration; getObjectPose() is its inverse, the model's pose in the scene,
  * which is usually what a grasp planner wants.
  *
@@ -51,9 +55,9 @@ namespace pcl {
  * Not thread-safe as an object (like every PCL Registration); the work inside align runs on
  * setNumberOfThreads threads with results independent of the count. */
 template <typename PointSource, typename Scalar = float>
-class IterativeClosestFace : public Registration<PointSource, pcl::PointXYZ, Scalar> {
+class IterativeClosestFace : public Registration<PointSource, PointSource, Scalar> {
 public:
-  using Base = Registration<PointSource, pcl::PointXYZ, Scalar>;
+  using Base = Registration<PointSource, PointSource, Scalar>;
   using typename Base::Matrix4;
   using typename Base::PointCloudSource;
   using typename Base::PointCloudTargetConstPtr;

@@ -4,6 +4,7 @@
  */
 #pragma once
 
+#include <pcl/common/io.h>
 #include <pcl/common/transforms.h>
 #include <pcl/icf/iterative_closest_face.h>
 
@@ -36,11 +37,17 @@ IterativeClosestFace<PointSource, Scalar>::setInputModel(const icf::IcfModel::Co
   if (!model)
     throw std::invalid_argument("IterativeClosestFace::setInputModel: null model");
   model_ = model;
-  auto samples = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-  samples->reserve(model->samples().size());
-  for (const auto& s : model->samples())
-    samples->push_back(pcl::PointXYZ(s.point.x(), s.point.y(), s.point.z()));
-  Base::setInputTarget(samples);
+  pcl::PointCloud<pcl::PointNormal> samples;
+  samples.reserve(model->samples().size());
+  for (const auto& s : model->samples()) {
+    pcl::PointNormal p;
+    p.getVector3fMap() = s.point;
+    p.getNormalVector3fMap() = s.normal;
+    samples.push_back(p);
+  }
+  auto target = pcl::make_shared<pcl::PointCloud<PointSource>>();
+  pcl::copyPointCloud(samples, *target);
+  Base::setInputTarget(target);
 }
 
 template <typename PointSource, typename Scalar>

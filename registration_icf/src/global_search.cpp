@@ -91,15 +91,19 @@ std::vector<Eigen::Vector3f>
 translationAnchors(const std::vector<Eigen::Vector3f>& points, float model_radius,
                    const GlobalSearchParams& params)
 {
-  Eigen::Vector3f centroid = Eigen::Vector3f::Zero(), lo = points.front(), hi = lo;
-  for (const auto& p : points) {
+  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+  for (const auto& p : points)
     centroid += p;
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
   centroid /= static_cast<float>(points.size());
   std::vector<Eigen::Vector3f> anchors{centroid};
-  if ((hi - lo).norm() <= params.merged_cluster_ratio * 2.f * model_radius)
+  // Spread: the 90th percentile of the distances from the centroid, so that a few outliers
+  // (5% within +-5 cm along the ray in a Kinect cut-out) do not count as another object.
+  std::vector<float> spread(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    spread[i] = (points[i] - centroid).norm();
+  const std::size_t q = spread.size() * 9 / 10;
+  std::nth_element(spread.begin(), spread.begin() + static_cast<std::ptrdiff_t>(q), spread.end());
+  if (spread[q] <= params.merged_cluster_ratio * model_radius)
     return anchors;
   // Farthest-point seeds from the centroid, each replaced by the mean of its neighbourhood.
   std::vector<float> nearest(points.size(), std::numeric_limits<float>::max());

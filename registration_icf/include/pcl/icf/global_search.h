@@ -24,8 +24,9 @@ struct GlobalSearchParams {
   std::size_t subsample = 256;
   /** Model surface samples used to place each rotation's visible centroid. */
   std::size_t centroid_samples = 512;
-  /** When the scene points spread wider than merged_cluster_ratio x the model's diameter the
-   * cluster probably holds other objects too: besides the centroid of all points, the search
+  /** When 10% of the scene points lie farther from their centroid than merged_cluster_ratio x
+   * the model's radius (about its surface centroid), the cluster probably holds other objects
+   * too: besides the centroid of all points, the search
    * also places the model at up to local_anchors local centroids (the mean of the points
    * within the model's radius of farthest-point seeds). */
   float merged_cluster_ratio = 1.2f;
@@ -74,7 +75,7 @@ fieldKernelScore(const ClosestPointField& field, const std::vector<Eigen::Vector
                  const Eigen::Isometry3f& scene_to_model, float kernel);
 
 /** \brief Where the model's visible centroid is placed: the centroid of all points and, for a
- * cluster wider than merged_cluster_ratio x the model's diameter, local centroids. */
+ * cluster that spreads wider than the model (see merged_cluster_ratio), local centroids. */
 std::vector<Eigen::Vector3f>
 translationAnchors(const std::vector<Eigen::Vector3f>& points, float model_radius,
                    const GlobalSearchParams& params);

@@ -68,7 +68,7 @@ run(const test::SyntheticModel& model, const Method& method, int trials)
 void
 row(const std::string& model, const std::string& method, const Stats& s)
 {
-  std::printf("| %s | %s | %zu | %.0f%% | %.1f | %.1f | %.1f |\n", model.c_str(), method.c_str(),
+  std::printf("| %s | %s | %zu | %.0f%% | %.2f | %.2f | %.1f |\n", model.c_str(), method.c_str(),
               s.ms.size(), 100.0 * s.ok / std::max<std::size_t>(1, s.ms.size()), median(s.t_mm),
               median(s.r_deg), median(s.ms));
   std::fflush(stdout);

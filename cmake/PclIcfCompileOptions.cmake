@@ -16,3 +16,10 @@ add_library(pcl_icf_pcl_deps INTERFACE)
 target_include_directories(pcl_icf_pcl_deps SYSTEM INTERFACE ${PCL_INCLUDE_DIRS})
 target_link_libraries(pcl_icf_pcl_deps INTERFACE ${PCL_LIBRARIES} Eigen3::Eigen)
 target_compile_definitions(pcl_icf_pcl_deps INTERFACE ${PCL_DEFINITIONS})
+
+# Under ASan, Eigen switches to its own aligned allocator (__SANITIZE_ADDRESS__), while the
+# precompiled PCL libraries free with plain free(): a false "free on address not malloc()-ed"
+# in pcl::ConvexHull. Tell Eigen that malloc is aligned, as it is on x86-64 glibc.
+if(PCL_ICF_SANITIZE)
+  target_compile_definitions(pcl_icf_pcl_deps INTERFACE EIGEN_MALLOC_ALREADY_ALIGNED=1)
+endif()

@@ -9,6 +9,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   clang clang-format
   xvfb xauth gnuplot-nox
+  nlohmann-json3-dev
 )
 
 missing=()

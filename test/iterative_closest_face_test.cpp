@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <random>
 
 namespace {
@@ -55,7 +56,9 @@ TEST_P(ThesisModels, FastStrategyFindsThePoseWithoutAGuess)
   const SyntheticModel model = pcl::icf::test::thesisModel(GetParam());
   pcl::IterativeClosestFace<pcl::PointXYZ> icf;
   icf.setInputTarget(pcl::make_shared<pcl::PolygonMesh>(model.mesh));
-  constexpr int kTrials = 50;
+  // Under the sanitizers (PCL_ICF_SANITIZED, set by the asan test preset) 8 trials check
+  // memory and behaviour; the release run holds the 50-trial bar.
+  const int kTrials = std::getenv("PCL_ICF_SANITIZED") ? 8 : 50;
   int successes = 0;
   for (int trial = 0; trial < kTrials; ++trial) {
     const std::uint64_t seed = 1000 + static_cast<std::uint64_t>(trial);
@@ -78,7 +81,8 @@ TEST_P(ThesisModels, FastStrategyFindsThePoseWithoutAGuess)
     }
   }
   RecordProperty("successes", successes);
-  EXPECT_GE(successes, 48) << GetParam() << ": " << successes << " / " << kTrials;
+  EXPECT_GE(successes, kTrials - std::max(1, kTrials / 20))
+      << GetParam() << ": " << successes << " / " << kTrials;
 }
 
 INSTANTIATE_TEST_SUITE_P(IterativeClosestFace, ThesisModels,
@@ -109,8 +113,9 @@ TEST(IterativeClosestFace, WorksThroughARegistrationPointerBesideIcp)
         ++callbacks;
       };
   pcl::Registration<pcl::PointXYZ, pcl::PointXYZ>::Ptr registration = icf;
-  registration->registerVisualizationCallback(callback);
+  // PCL calls the callback at once with the source and target: set both first.
   registration->setInputSource(t.cluster);
+  registration->registerVisualizationCallback(callback);
   registration->setMaximumIterations(25);
   pcl::PointCloud<pcl::PointXYZ> aligned;
   registration->align(aligned);

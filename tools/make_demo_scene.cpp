@@ -1,5 +1,7 @@
-// Writes the bundled demo: a simulated Kinect view (1.5 mm noise at 1 m, 5% outliers) of the
-// thesis's Box5 at a fixed pose, the mesh, and the ground-truth pose. Deterministic.
+// Writes the bundled demo (data/demo/README.md): a simulated Kinect view (1.5 mm noise at 1 m,
+// 5% outliers) of the thesis's Box5 at a fixed pose, the mesh, and the ground-truth pose; and a
+// 320 x 240 organized table-top scene with Box5 and two distractors (a cup and a statue) with
+// Box5's ground-truth pose, the default scene of pcl_icf_tool. Deterministic.
 //   make_demo_scene OUTPUT_DIR
 #include "support/depth_camera.h"
 #include "support/synthetic_models.h"
@@ -7,12 +9,11 @@
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 
-int
-main(int argc, char** argv)
-{
+int main(int argc, char** argv) {
   if (argc != 2) {
     std::fprintf(stderr, "Usage: %s OUTPUT_DIR\n", argv[0]);
     return 2;
@@ -32,5 +33,30 @@ main(int argc, char** argv)
   truth.precision(9);
   truth << pose.matrix() << "\n";
   std::printf("wrote %zu points, the mesh and the pose to %s\n", cluster->size(), dir.c_str());
+
+  // The table-top scene: a Kinect's field of view at half resolution, camera 0.6 m above the
+  // table looking down at 45 degrees (makeTabletopScene), Box5 in front, two distractors.
+  pcl::icf::test::CameraIntrinsics half;
+  half.width = 320;
+  half.height = 240;
+  half.fx = half.fy = 262.5;
+  half.cx = 159.5;
+  half.cy = 119.5;
+  pcl::icf::test::ScanNoise table_noise;
+  table_noise.seed = 2014;
+  const std::vector<pcl::icf::test::SyntheticModel> objects = {
+      model, pcl::icf::test::thesisModel("Cup"), pcl::icf::test::thesisModel("Statue")};
+  const std::vector<Eigen::Vector3d> placement = {
+      {0.02, -0.05, 0.5}, {-0.22, 0.08, 0.0}, {0.22, 0.10, -0.4}};
+  const auto scene = pcl::icf::test::makeTabletopScene(objects, placement, half, table_noise);
+  pcl::io::savePCDFileBinaryCompressed(dir + "/tabletop_box5.pcd", *scene.scan.cloud);
+  std::ofstream table_truth(dir + "/tabletop_box5_truth.txt");
+  table_truth.precision(9);
+  table_truth << scene.poses[0].matrix() << "\n";
+  std::size_t finite = 0;
+  for (const auto& p : *scene.scan.cloud)
+    finite += std::isfinite(p.z);
+  std::printf("wrote a %ux%u table-top scene (%zu finite points) and Box5's pose to %s\n",
+              scene.scan.cloud->width, scene.scan.cloud->height, finite, dir.c_str());
   return 0;
 }

@@ -2,8 +2,9 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
+#include "file_formats.h"
+
 #include <pcl/icf/io/mesh_io.h>
-#include <pcl/io/ply_io.h>
 #include <pcl/io/vtk_lib_io.h>
 
 #include <vtkObject.h>
@@ -44,22 +45,6 @@ requireReadableFile(const std::string& path)
     throw FileError(path + ": cannot be opened for reading");
 }
 
-namespace {
-
-/** PLY carries its own header: reject a file that does not start with one before PCL's reader
- * sees it (its error path prints and returns, which we turn into an exception anyway). */
-void
-requirePlyMagic(const std::string& path)
-{
-  std::ifstream in(path, std::ios::binary);
-  char magic[4] = {0, 0, 0, 0};
-  in.read(magic, 3);
-  if (std::string(magic, 3) != "ply")
-    throw FileError(path + ": not a PLY file (no 'ply' header line)");
-}
-
-}  // namespace
-
 pcl::PolygonMesh
 loadPolygonMesh(const std::string& path)
 {
@@ -69,14 +54,21 @@ loadPolygonMesh(const std::string& path)
   // VTK readers print to stderr on bad input; we report through the exception instead.
   vtkObject::GlobalWarningDisplayOff();
   int result = -1;
+  // PLY, OBJ and STL: our readers (file_formats.h); PCL's and VTK's crash on malformed files.
   if (ext == "ply") {
-    requirePlyMagic(path);
-    result = pcl::io::loadPLYFile(path, mesh);
+    detail::PlyContents ply = detail::readPlyFile(path, true, detail::kMaxMeshElements);
+    mesh.cloud = std::move(ply.vertices);
+    mesh.polygons = std::move(ply.polygons);
+    result = 0;
   }
-  else if (ext == "obj")
-    result = pcl::io::loadPolygonFileOBJ(path, mesh);
-  else if (ext == "stl")
-    result = pcl::io::loadPolygonFileSTL(path, mesh);
+  else if (ext == "obj") {
+    mesh = detail::readObjFile(path);
+    result = 0;
+  }
+  else if (ext == "stl") {
+    mesh = detail::readStlFile(path);
+    result = 0;
+  }
   else if (ext == "vtk")
     result = pcl::io::loadPolygonFileVTK(path, mesh);
   else

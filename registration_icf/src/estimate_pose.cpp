@@ -30,6 +30,33 @@ toString(SearchStrategy strategy)
   return strategy == SearchStrategy::Fast ? "fast" : "thesis";
 }
 
+FallbackPolicy
+parseFallbackPolicy(const std::string& name)
+{
+  if (name == "off")
+    return FallbackPolicy::Off;
+  if (name == "auto")
+    return FallbackPolicy::Auto;
+  if (name == "always")
+    return FallbackPolicy::Always;
+  throw std::invalid_argument("unknown fallback policy '" + name +
+                              "' (expected off, auto or always)");
+}
+
+std::string
+toString(FallbackPolicy policy)
+{
+  switch (policy) {
+  case FallbackPolicy::Off:
+    return "off";
+  case FallbackPolicy::Auto:
+    return "auto";
+  case FallbackPolicy::Always:
+    return "always";
+  }
+  return "unknown";
+}
+
 std::string
 toString(IcfStatus status)
 {
@@ -97,6 +124,8 @@ IcfParams::validate() const
   objective.validate();
   refinement.validate();
   acceptance.validate();
+  if (fallback != FallbackPolicy::Off)
+    sac.validate();
   if (exact_candidates < 1)
     throw std::invalid_argument("IcfParams::exact_candidates = 0: must be at least 1");
   if (threads < 0 || threads > 1024)
@@ -125,6 +154,23 @@ exactKernelScore(const ClosestFaceQuery& index, const std::vector<Eigen::Vector3
   return score;
 }
 
+/** The points that can belong to the model at a pose: within its radius plus \a margin of its
+ * surface centroid. In a merged cluster the rest belongs to other objects and only costs
+ * closest-face queries. */
+std::vector<Eigen::Vector3f>
+pointsNearModel(const IcfModel& model, const std::vector<Eigen::Vector3f>& points,
+                const Eigen::Isometry3f& scene_to_model, float margin)
+{
+  const float r = model.radius() + margin;
+  const Eigen::Vector3f& c = model.mesh().surfaceCentroid();
+  std::vector<Eigen::Vector3f> near;
+  near.reserve(points.size());
+  for (const auto& p : points)
+    if ((scene_to_model * p - c).squaredNorm() < r * r)
+      near.push_back(p);
+  return near;
+}
+
 /** The fast strategy's start for the final refinement: the global search's best hypotheses,
  * each refined with exact faces on a subset, the best by the fine kernel. */
 PoseHypothesis
@@ -133,13 +179,15 @@ fastSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& points,
 {
   const std::vector<PoseHypothesis> hypotheses =
       globalSearch(model, points, camera, params.global, params.seed, threads);
-  const std::vector<Eigen::Vector3f> subset =
-      randomSubset(points, params.candidate_points, params.seed + 1);
   const std::size_t n = std::min(params.exact_candidates, hypotheses.size());
   std::vector<PoseHypothesis> refined(n);
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
   for (int k = 0; k < static_cast<int>(n); ++k) {
     const auto i = static_cast<std::size_t>(k);
+    const std::vector<Eigen::Vector3f> subset = randomSubset(
+        pointsNearModel(model, points, hypotheses[i].scene_to_model,
+                        params.refinement.initial_inlier_distance),
+        params.candidate_points, params.seed + 1);
     refined[i].scene_to_model =
         refinePose(model.index(), subset, hypotheses[i].scene_to_model, params.refinement, 1)
             .scene_to_model;
@@ -167,7 +215,7 @@ estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_po
   std::vector<Eigen::Vector3f> points;
   points.reserve(scene_points.size());
   for (const auto& p : scene_points)
-    if (p.allFinite())
+    if (p.allFinite() && p.cwiseAbs().maxCoeff() <= kMaxPointCoordinate)
       points.push_back(p);
   result.points = points.size();
   if (points.size() < std::max<std::size_t>(params.acceptance.min_inliers, 6)) {
@@ -178,10 +226,47 @@ estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_po
     throw std::invalid_argument("estimatePose: the initial guess has a non-finite entry");
   const int threads = params.threads > 0 ? params.threads : omp_get_num_procs();
 
+  // Refine from a start, measure with exact distances, accept or reject.
+  struct Outcome {
+    RefinementResult refined;
+    PoseQuality quality;
+    bool accepted = false;
+  };
+  auto refineAndMeasure = [&](const Eigen::Isometry3f& from, const IterationCallback& cb) {
+    Outcome o;
+    o.refined = refinePose(model.index(), points, from, params.refinement, threads, cb);
+    o.quality = measurePoseQuality(model, points, o.refined.scene_to_model, camera,
+                                   params.acceptance.inlier_distance,
+                                   params.acceptance.gate_distance, params.objective,
+                                   params.acceptance.visibility, threads);
+    o.accepted = isAcceptable(o.quality, params.acceptance);
+    return o;
+  };
+  // The SampleConsensus start: SAC's transform, or the centroid start when it finds nothing.
+  auto sacStart = [&]() {
+    const SacResult sac = sampleConsensusAlign(model, points, camera, params.sac, threads);
+    result.fallback_ran = true;
+    result.sac_status = sac.status;
+    if (sac.found())
+      return Eigen::Isometry3f(sac.scene_to_model);
+    Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+    for (const auto& p : points)
+      centroid += p;
+    centroid /= static_cast<float>(points.size());
+    Eigen::Isometry3f start = Eigen::Isometry3f::Identity();
+    start.translation() = model.mesh().surfaceCentroid() - centroid;
+    return start;
+  };
+
+  const bool sac_only = !guess && params.fallback == FallbackPolicy::Always;
   Eigen::Isometry3f start_pose = Eigen::Isometry3f::Identity();
   if (guess) {
     start_pose = *guess;
     result.method = "guess+icf";
+  }
+  else if (sac_only) {
+    start_pose = sacStart();
+    result.method = "sac+icf";
   }
   else if (params.strategy == SearchStrategy::Thesis) {
     const PoseHypothesis h =
@@ -197,18 +282,26 @@ estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_po
     result.method = "fast+icf";
   }
 
-  const RefinementResult refined =
-      refinePose(model.index(), points, start_pose, params.refinement, threads, callback);
-  result.refinement_iterations = refined.iterations;
-  result.refinement_converged = refined.converged;
-  result.scene_to_model = refined.scene_to_model.matrix();
-  result.object_pose = refined.scene_to_model.inverse().matrix();
-  result.quality = measurePoseQuality(model, points, refined.scene_to_model, camera,
-                                      params.acceptance.inlier_distance,
-                                      params.acceptance.gate_distance, params.objective,
-                                      params.acceptance.visibility, threads);
-  result.status =
-      isAcceptable(result.quality, params.acceptance) ? IcfStatus::Accepted : IcfStatus::Rejected;
+  Outcome best = refineAndMeasure(start_pose, callback);
+  if (!guess && !sac_only && !best.accepted && params.fallback == FallbackPolicy::Auto) {
+    const Eigen::Isometry3f sac_pose = sacStart();
+    if (result.sac_status == SacStatus::Found) {
+      Outcome fallback = refineAndMeasure(sac_pose, callback);
+      // Accepted beats rejected; between two rejected poses, more of the visible surface.
+      if (fallback.accepted ||
+          fallback.quality.surface_coverage > best.quality.surface_coverage) {
+        best = fallback;
+        result.method = "sac+icf";
+      }
+    }
+  }
+
+  result.refinement_iterations = best.refined.iterations;
+  result.refinement_converged = best.refined.converged;
+  result.scene_to_model = best.refined.scene_to_model.matrix();
+  result.object_pose = best.refined.scene_to_model.inverse().matrix();
+  result.quality = best.quality;
+  result.status = best.accepted ? IcfStatus::Accepted : IcfStatus::Rejected;
   result.time_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return result;

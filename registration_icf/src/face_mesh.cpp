@@ -3,13 +3,13 @@
  * SPDX-License-Identifier: BSD-3-Clause
  */
 #include <pcl/common/io.h>
-#include <pcl/conversions.h>
 #include <pcl/icf/face_mesh.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <set>
 #include <sstream>
@@ -18,13 +18,15 @@ namespace pcl {
 namespace icf {
 namespace {
 
-Eigen::Vector3f
+/** In double: in float the cross products of tiny faces underflow to denormals (a "unit"
+ * normal of norm 0.3 after normalized()) and those of huge ones overflow (fuzz/, issue 7). */
+Eigen::Vector3d
 newellNormal(const std::vector<Eigen::Vector3f>& v, const std::vector<std::uint32_t>& poly)
 {
-  Eigen::Vector3f n = Eigen::Vector3f::Zero();
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
   for (std::size_t k = 0; k < poly.size(); ++k) {
-    const Eigen::Vector3f& a = v[poly[k]];
-    const Eigen::Vector3f& b = v[poly[(k + 1) % poly.size()]];
+    const Eigen::Vector3d a = v[poly[k]].cast<double>();
+    const Eigen::Vector3d b = v[poly[(k + 1) % poly.size()]].cast<double>();
     n += a.cross(b);
   }
   return n;  // |n| = 2 * area for a planar polygon
@@ -117,18 +119,96 @@ distinctLoop(const std::vector<std::uint32_t>& in)
   return out;
 }
 
+/** One coordinate of any numeric PCL field type as a double; false for another type. */
+bool
+readCoordinate(const std::uint8_t* p, std::uint8_t datatype, double& v)
+{
+  switch (datatype) {
+  case pcl::PCLPointField::INT8:
+    v = static_cast<std::int8_t>(*p);
+    return true;
+  case pcl::PCLPointField::UINT8:
+    v = *p;
+    return true;
+  case pcl::PCLPointField::INT16: {
+    std::int16_t x;
+    std::memcpy(&x, p, 2);
+    v = x;
+    return true;
+  }
+  case pcl::PCLPointField::UINT16: {
+    std::uint16_t x;
+    std::memcpy(&x, p, 2);
+    v = x;
+    return true;
+  }
+  case pcl::PCLPointField::INT32: {
+    std::int32_t x;
+    std::memcpy(&x, p, 4);
+    v = x;
+    return true;
+  }
+  case pcl::PCLPointField::UINT32: {
+    std::uint32_t x;
+    std::memcpy(&x, p, 4);
+    v = x;
+    return true;
+  }
+  case pcl::PCLPointField::FLOAT32: {
+    float x;
+    std::memcpy(&x, p, 4);
+    v = x;
+    return true;
+  }
+  case pcl::PCLPointField::FLOAT64:
+    std::memcpy(&v, p, 8);
+    return true;
+  default:
+    return false;
+  }
+}
+
+/** The vertices of any x, y, z field layout (float, double or integer: PLY files carry all of
+ * them; pcl::fromPCLPointCloud2 would silently leave non-float coordinates at zero), checked
+ * against the data actually present. */
 std::vector<Eigen::Vector3f>
 readVertices(const pcl::PolygonMesh& mesh, float scale)
 {
-  for (const char* name : {"x", "y", "z"})
-    if (pcl::getFieldIndex(mesh.cloud, name) < 0)
+  const pcl::PCLPointCloud2& cloud = mesh.cloud;
+  const pcl::PCLPointField* axes[3];
+  int a = 0;
+  for (const char* name : {"x", "y", "z"}) {
+    const int index = pcl::getFieldIndex(cloud, name);
+    if (index < 0)
       throw InvalidMeshError(std::string("mesh vertices have no '") + name + "' field");
-  pcl::PointCloud<pcl::PointXYZ> cloud;
-  pcl::fromPCLPointCloud2(mesh.cloud, cloud);
+    axes[a++] = &cloud.fields[static_cast<std::size_t>(index)];
+  }
+  const std::size_t n = static_cast<std::size_t>(cloud.width) * cloud.height;
+  const std::size_t row_step = cloud.height > 1 ? cloud.row_step : n * cloud.point_step;
+  for (const pcl::PCLPointField* f : axes) {
+    const std::size_t size = pcl::getFieldSize(f->datatype);
+    if (size == 0 || f->offset + size > cloud.point_step)
+      throw InvalidMeshError("mesh vertex field '" + f->name +
+                             "' has an unknown type or lies outside the point");
+  }
+  if (n > 0 && (row_step < static_cast<std::size_t>(cloud.width) * cloud.point_step ||
+                cloud.data.size() < (cloud.height - 1) * row_step +
+                                        static_cast<std::size_t>(cloud.width) * cloud.point_step))
+    throw InvalidMeshError("mesh vertex data is shorter than its " + std::to_string(n) +
+                           " vertices need");
   std::vector<Eigen::Vector3f> vertices;
-  vertices.reserve(cloud.size());
-  for (const auto& p : cloud.points)
-    vertices.emplace_back(p.getVector3fMap() * scale);
+  vertices.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint8_t* point =
+        cloud.data.data() + (i / cloud.width) * row_step + (i % cloud.width) * cloud.point_step;
+    Eigen::Vector3f v;
+    for (int k = 0; k < 3; ++k) {
+      double c = 0.0;
+      readCoordinate(point + axes[k]->offset, axes[k]->datatype, c);
+      v[k] = static_cast<float>(c * scale);
+    }
+    vertices.push_back(v);
+  }
   return vertices;
 }
 
@@ -171,16 +251,20 @@ FaceMesh::build(const pcl::PolygonMesh& mesh, const FaceMeshOptions& options)
     throw InvalidMeshError("mesh has no faces (" + std::to_string(out.vertices_.size()) +
                            " vertices, 0 polygons): a point cloud is not a model");
 
-  // Bounds of the finite vertices give the scale of the area tolerance.
-  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
-  Eigen::Vector3f hi = -lo;
-  for (const auto& p : out.vertices_)
-    if (p.allFinite()) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-  const float diagonal = (hi - lo).allFinite() ? (hi - lo).norm() : 0.f;
-  const float min_area = options.area_tolerance * diagonal * diagonal;
+  // Bounds of the finite vertices the faces use give the scale of the area tolerance; in
+  // double, and without unreferenced vertices: one stray vertex at 1e30 made the float square
+  // infinite and every face "degenerate".
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::max());
+  Eigen::Vector3d hi = -lo;
+  for (const auto& polygon : mesh.polygons)
+    for (const auto i : polygon.vertices)
+      if (i >= 0 && static_cast<std::size_t>(i) < out.vertices_.size() &&
+          out.vertices_[static_cast<std::size_t>(i)].allFinite()) {
+        lo = lo.cwiseMin(out.vertices_[static_cast<std::size_t>(i)].cast<double>());
+        hi = hi.cwiseMax(out.vertices_[static_cast<std::size_t>(i)].cast<double>());
+      }
+  const double diagonal = (hi.array() >= lo.array()).all() ? (hi - lo).norm() : 0.0;
+  const double min_area = options.area_tolerance * diagonal * diagonal;
 
   std::set<std::vector<std::uint32_t>> seen;
   const auto vertex_count = out.vertices_.size();
@@ -212,13 +296,13 @@ FaceMesh::build(const pcl::PolygonMesh& mesh, const FaceMeshOptions& options)
       ++out.report_.duplicate_dropped;
       continue;
     }
-    const Eigen::Vector3f newell = newellNormal(out.vertices_, loop);
-    const float area = 0.5f * newell.norm();
+    const Eigen::Vector3d newell = newellNormal(out.vertices_, loop);
+    const float area = static_cast<float>(0.5 * newell.norm());  // beyond float: inf, dropped
     if (!(area > min_area) || !std::isfinite(area)) {
       ++out.report_.degenerate_dropped;
       continue;
     }
-    const Eigen::Vector3f normal = newell.normalized();
+    const Eigen::Vector3f normal = newell.normalized().cast<float>();
     if (loop.size() == 3 || (isPlanar(out.vertices_, loop, normal, options.planarity_tolerance) &&
                              isConvex(out.vertices_, loop, normal))) {
       out.addFace(loop, normal, area);
@@ -227,17 +311,19 @@ FaceMesh::build(const pcl::PolygonMesh& mesh, const FaceMeshOptions& options)
     }
     ++out.report_.triangulated_polygons;
     for (const auto& tri : earClip(out.vertices_, loop, normal)) {
-      const Eigen::Vector3f n = newellNormal(out.vertices_, tri);
-      const float a = 0.5f * n.norm();
-      if (a > min_area)
-        out.addFace(tri, n.normalized(), a);
+      const Eigen::Vector3d n = newellNormal(out.vertices_, tri);
+      const float a = static_cast<float>(0.5 * n.norm());
+      if (a > min_area && std::isfinite(a))
+        out.addFace(tri, n.normalized().cast<float>(), a);
     }
   }
   if (out.faces_.empty()) {
     std::ostringstream msg;
     msg << "mesh has no usable face: " << out.report_.degenerate_dropped << " degenerate, "
         << out.report_.duplicate_dropped << " duplicate, " << out.report_.nonfinite_dropped
-        << " with non-finite vertices out of " << out.report_.input_polygons;
+        << " with non-finite vertices out of " << out.report_.input_polygons
+        << " (degenerate: area below " << options.area_tolerance
+        << " x the squared bounding-box diagonal, " << diagonal << ")";
     throw InvalidMeshError(msg.str());
   }
   out.finish();

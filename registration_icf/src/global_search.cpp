@@ -7,6 +7,8 @@
 #include <pcl/icf/rotation_sampling.h>
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <cmath>
 #include <numeric>
 #include <random>
@@ -47,9 +49,12 @@ GlobalSearchParams::validate() const
     fail("fine_kernel", fine_kernel, "must be positive and finite");
   if (keep < 1)
     fail("keep", static_cast<double>(keep), "must be at least 1");
-  if (!(merged_cluster_ratio > 0.f) || local_anchors > 1000)
-    fail("merged_cluster_ratio / local_anchors", merged_cluster_ratio,
-         "ratio must be positive and local_anchors at most 1000");
+  if (!(merged_cluster_ratio > 0.f) || !std::isfinite(merged_cluster_ratio))
+    fail("merged_cluster_ratio", merged_cluster_ratio, "must be positive and finite");
+  if (!(anchor_spacing > 0.01f) || !std::isfinite(anchor_spacing))
+    fail("anchor_spacing", anchor_spacing, "must be finite and > 0.01");
+  if (max_anchors < 1 || max_anchors > 100000)
+    fail("max_anchors", static_cast<double>(max_anchors), "must lie in [1, 1e5]");
   if (!(distinct_rotation >= 0.f) || !(distinct_translation >= 0.f))
     fail("distinct_*", -1, "must be >= 0");
   field_refinement.validate();
@@ -87,15 +92,14 @@ fieldKernelScore(const ClosestPointField& field, const std::vector<Eigen::Vector
   return score;
 }
 
-std::vector<Eigen::Vector3f>
+std::vector<SearchAnchor>
 translationAnchors(const std::vector<Eigen::Vector3f>& points, float model_radius,
-                   const GlobalSearchParams& params)
+                   const GlobalSearchParams& params, std::uint64_t seed)
 {
   Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
   for (const auto& p : points)
     centroid += p;
   centroid /= static_cast<float>(points.size());
-  std::vector<Eigen::Vector3f> anchors{centroid};
   // Spread: the 90th percentile of the distances from the centroid, so that a few outliers
   // (5% within +-5 cm along the ray in a Kinect cut-out) do not count as another object.
   std::vector<float> spread(points.size());
@@ -104,27 +108,50 @@ translationAnchors(const std::vector<Eigen::Vector3f>& points, float model_radiu
   const std::size_t q = spread.size() * 9 / 10;
   std::nth_element(spread.begin(), spread.begin() + static_cast<std::ptrdiff_t>(q), spread.end());
   if (spread[q] <= params.merged_cluster_ratio * model_radius)
-    return anchors;
-  // Farthest-point seeds from the centroid, each replaced by the mean of its neighbourhood.
-  std::vector<float> nearest(points.size(), std::numeric_limits<float>::max());
-  Eigen::Vector3f seed = centroid;
-  for (std::size_t a = 0; a < params.local_anchors; ++a) {
-    std::size_t farthest = 0;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      nearest[i] = std::min(nearest[i], (points[i] - seed).norm());
-      if (nearest[i] > nearest[farthest])
-        farthest = i;
-    }
-    seed = points[farthest];
-    Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-    int count = 0;
-    for (const auto& p : points)
-      if ((p - seed).norm() < model_radius) {
-        sum += p;
-        ++count;
-      }
-    anchors.push_back(sum / static_cast<float>(std::max(count, 1)));
+    return {SearchAnchor{centroid, randomSubset(points, params.subsample, seed)}};
+
+  // A merged cluster: windows on a grid of pitch anchor_spacing x model radius, each holding
+  // the points within the model's radius of its points' mean.
+  const float pitch = std::max(1e-4f, params.anchor_spacing * model_radius);
+  std::map<std::array<long, 3>, std::pair<Eigen::Vector3f, int>> cells;
+  for (const auto& p : points) {
+    // Clamped before the cast: a float beyond long's range (a point at 1e30, NaN) is UB.
+    auto cell = [pitch](float v) {
+      const float x = v / pitch;
+      return static_cast<long>(std::floor(x > -1e15f ? (x < 1e15f ? x : 1e15f) : -1e15f));
+    };
+    const std::array<long, 3> key{cell(p.x()), cell(p.y()), cell(p.z())};
+    auto& slot = cells[key];
+    slot.first += p;
+    ++slot.second;
   }
+  std::vector<SearchAnchor> anchors;
+  std::uint64_t k = 0;
+  for (const auto& kv : cells) {
+    if (kv.second.second < static_cast<int>(params.min_anchor_points))
+      continue;
+    SearchAnchor a;
+    a.centre = kv.second.first / static_cast<float>(kv.second.second);
+    std::vector<Eigen::Vector3f> local;
+    for (const auto& p : points)
+      if ((p - a.centre).norm() < model_radius)
+        local.push_back(p);
+    a.subset = randomSubset(local, params.subsample, seed + ++k);
+    // The model is placed on the centroid of what it would explain here.
+    a.centre = Eigen::Vector3f::Zero();
+    for (const auto& p : a.subset)
+      a.centre += p;
+    a.centre /= static_cast<float>(a.subset.size());
+    anchors.push_back(std::move(a));
+  }
+  if (anchors.size() > params.max_anchors) {  // keep the densest windows
+    std::stable_sort(anchors.begin(), anchors.end(), [](const SearchAnchor& a, const SearchAnchor& b) {
+      return a.subset.size() > b.subset.size();
+    });
+    anchors.resize(params.max_anchors);
+  }
+  if (anchors.empty())
+    anchors.push_back(SearchAnchor{centroid, randomSubset(points, params.subsample, seed)});
   return anchors;
 }
 
@@ -172,30 +199,41 @@ globalSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_po
   params.validate();
   if (scene_points.empty())
     return {};
-  const std::vector<Eigen::Vector3f> subset = randomSubset(scene_points, params.subsample, seed);
-  const std::vector<Eigen::Vector3f> anchors =
-      translationAnchors(scene_points, model.radius(), params);
-  Eigen::Vector3f view = anchors.front() - camera;
+  const std::vector<SearchAnchor> anchors =
+      translationAnchors(scene_points, model.radius(), params, seed);
+  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+  for (const auto& p : scene_points)
+    centroid += p;
+  centroid /= static_cast<float>(scene_points.size());
+  Eigen::Vector3f view = centroid - camera;
   view = view.norm() > 1e-9f ? Eigen::Vector3f(view.normalized()) : Eigen::Vector3f::UnitZ();
 
   // Coarse pass: every rotation at every anchor, placed by its visible centroid, scored on
-  // the field.
+  // the anchor's points through the field.
+  const std::size_t rotation_count =
+      anchors.size() > 1 ? std::max<std::size_t>(1, params.rotations / 2) : params.rotations;
   const std::vector<Eigen::Quaternionf> rotations =
-      uniformRotations(params.rotations, seed ^ 0x9e3779b97f4a7c15ULL);
+      uniformRotations(rotation_count, seed ^ 0x9e3779b97f4a7c15ULL);
+  std::vector<Eigen::Vector3f> visible_centroids(rotations.size());
+  for (std::size_t r = 0; r < rotations.size(); ++r)
+    visible_centroids[r] = visibleCentroid(model, params.centroid_samples,
+                                           rotations[r].toRotationMatrix().transpose() * view);
   std::vector<PoseHypothesis> coarse(rotations.size() * anchors.size());
+  std::vector<std::size_t> anchor_of(coarse.size());
   const int count = static_cast<int>(coarse.size());
 #pragma omp parallel for schedule(static) num_threads(std::max(1, threads))
   for (int k = 0; k < count; ++k) {
     const std::size_t r = static_cast<std::size_t>(k) % rotations.size();
-    const Eigen::Vector3f& anchor = anchors[static_cast<std::size_t>(k) / rotations.size()];
+    const std::size_t a = static_cast<std::size_t>(k) / rotations.size();
     const Eigen::Matrix3f R = rotations[r].toRotationMatrix();
-    const Eigen::Vector3f c = visibleCentroid(model, params.centroid_samples, R.transpose() * view);
     Eigen::Isometry3f model_to_scene = Eigen::Isometry3f::Identity();
     model_to_scene.linear() = R;
-    model_to_scene.translation() = anchor - R * c;
+    model_to_scene.translation() = anchors[a].centre - R * visible_centroids[r];
     PoseHypothesis& h = coarse[static_cast<std::size_t>(k)];
     h.scene_to_model = model_to_scene.inverse();
-    h.score = fieldKernelScore(model.field(), subset, h.scene_to_model, params.coarse_kernel);
+    h.score =
+        fieldKernelScore(model.field(), anchors[a].subset, h.scene_to_model, params.coarse_kernel);
+    anchor_of[static_cast<std::size_t>(k)] = a;
   }
   std::vector<std::size_t> order(coarse.size());
   std::iota(order.begin(), order.end(), 0);
@@ -203,11 +241,14 @@ globalSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_po
     return coarse[a].score > coarse[b].score;
   });
   std::vector<PoseHypothesis> kept;
+  std::vector<std::size_t> kept_anchor;
   for (std::size_t i : order) {
     if (kept.size() >= params.keep)
       break;
-    if (isDistinct(coarse[i], kept, params.distinct_rotation, params.distinct_translation))
+    if (isDistinct(coarse[i], kept, params.distinct_rotation, params.distinct_translation)) {
       kept.push_back(coarse[i]);
+      kept_anchor.push_back(anchor_of[i]);
+    }
   }
 
   // Fine pass: refine each kept hypothesis on the field, re-score with the fine kernel.
@@ -217,6 +258,7 @@ globalSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_po
 #pragma omp parallel for schedule(dynamic) num_threads(std::max(1, threads))
   for (int k = 0; k < n; ++k) {
     PoseHypothesis& h = kept[static_cast<std::size_t>(k)];
+    const auto& subset = anchors[kept_anchor[static_cast<std::size_t>(k)]].subset;
     h.scene_to_model = refinePoseOnField(model.field(), pivot, scale, subset, h.scene_to_model,
                                          params.field_refinement)
                            .scene_to_model;

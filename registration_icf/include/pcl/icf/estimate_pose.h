@@ -9,6 +9,7 @@
 #include <pcl/icf/objective.h>
 #include <pcl/icf/pose_verification.h>
 #include <pcl/icf/refinement.h>
+#include <pcl/icf/sample_consensus_alignment.h>
 #include <pcl/icf/thesis_search.h>
 
 #include <Eigen/Geometry>
@@ -31,6 +32,21 @@ SearchStrategy
 parseSearchStrategy(const std::string& name);
 std::string
 toString(SearchStrategy strategy);
+
+/** \brief When the feature-based sample-consensus alignment (sample_consensus_alignment.h)
+ * runs inside estimatePose. It never runs when an initial guess is given. */
+enum class FallbackPolicy {
+  Off,     ///< never: the search's pose is the answer
+  Auto,    ///< default: when the searched and refined pose is not accepted, also try SAC + ICF
+           ///< and keep the better of the two (see estimatePose)
+  Always,  ///< SAC instead of the global search, then ICF
+};
+
+/** \brief Parse "off" / "auto" / "always"; throws std::invalid_argument otherwise. */
+FallbackPolicy
+parseFallbackPolicy(const std::string& name);
+std::string
+toString(FallbackPolicy policy);
 
 /** \brief When a pose is accepted (hasConverged() is true). Lengths in scene units. */
 struct AcceptanceParams {
@@ -70,6 +86,10 @@ struct IcfParams {
    * refinement.max_points). */
   std::size_t candidate_points = 1000;
   AcceptanceParams acceptance;
+  /** When the SampleConsensus alignment runs (default Auto: only after a rejection). */
+  FallbackPolicy fallback = FallbackPolicy::Auto;
+  /** The SampleConsensus alignment used by the fallback; its own seed (sac.seed). */
+  SacParams sac;
   std::uint64_t seed = 42;
   int threads = 0;  ///< 0: all cores. Results do not depend on it.
 
@@ -96,23 +116,44 @@ struct IcfResult {
   /** The model's pose in the scene (model frame -> scene frame): the inverse. */
   Eigen::Matrix4f object_pose = Eigen::Matrix4f::Identity();
   PoseQuality quality;           ///< measured at the final pose with exact distances
-  std::string method;            ///< "fast+icf", "thesis+icf", "guess+icf"
+  std::string method;            ///< "fast+icf", "thesis+icf", "sac+icf", "guess+icf"
   int refinement_iterations = 0;
   bool refinement_converged = false;
   std::size_t points = 0;        ///< finite scene points used
   double search_score = 0.0;     ///< the search's own score of its best hypothesis
+  /** The SampleConsensus fallback ran (policy Always, or Auto after a rejection), whether or
+   * not its pose was kept (method says which was). */
+  bool fallback_ran = false;
+  SacStatus sac_status = SacStatus::NotRun;  ///< its outcome when it ran
   double time_ms = 0.0;
 
   bool accepted() const { return status == IcfStatus::Accepted; }
 };
 
+/** \brief Scene points with a coordinate beyond this (scene units: 1000 km in metres) are
+ * left out of estimatePose like NaN ones: no sensor measures them, float geometry on them
+ * overflows (their squared distances are infinite), and a few of them would drag every
+ * centroid away from the object. */
+constexpr float kMaxPointCoordinate = 1e6f;
+
 /** \brief Estimate the model's pose in a cluster of scene points (doc/icf.md): search (or
  * start from \a guess), refine by iterative closest face, measure, accept or reject.
  *
- * \param scene_points finite points of one cluster, scene frame and units
+ * \param scene_points points of one cluster, scene frame and units; points with a NaN or
+ * infinite coordinate, or one beyond +-kMaxPointCoordinate, are left out (IcfResult::points
+ * counts the rest)
  * \param camera the sensor's position in the scene frame (visibility)
  * \param guess optional scene-to-model start; then only the refinement runs
- * Deterministic for params.seed and independent of params.threads. */
+ *
+ * The SampleConsensus fallback (params.fallback, sample_consensus_alignment.h): with Auto, when
+ * the refined search result is not accepted, sampleConsensusAlign(params.sac) runs on the same
+ * points, its pose is refined the same way and measured; the accepted one is kept (the
+ * search's when both are), else the one covering more of the model's visible surface. With
+ * Always, SAC replaces the search (method "sac+icf"); when it finds nothing the refinement
+ * starts from the centroid start (model surface centroid on the cluster centroid, no
+ * rotation), which is rarely accepted. The model's features are built on first use and cached
+ * (cachedSacModel); SAC runs are serialised process-wide (PCL's aligners use rand()).
+ * Deterministic for params.seed and params.sac.seed and independent of params.threads. */
 IcfResult
 estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
              const Eigen::Vector3f& camera, const IcfParams& params,

@@ -26,11 +26,14 @@ struct GlobalSearchParams {
   std::size_t centroid_samples = 512;
   /** When 10% of the scene points lie farther from their centroid than merged_cluster_ratio x
    * the model's radius (about its surface centroid), the cluster probably holds other objects
-   * too: besides the centroid of all points, the search
-   * also places the model at up to local_anchors local centroids (the mean of the points
-   * within the model's radius of farthest-point seeds). */
+   * too. The search then runs in windows: on a grid of pitch anchor_spacing x the model's
+   * radius, each cell with at least min_anchor_points points anchors a window of the points
+   * within the model's radius of their mean, scored on its own subsample, with half the
+   * rotations; at most max_anchors windows (the densest). */
   float merged_cluster_ratio = 1.2f;
-  std::size_t local_anchors = 6;
+  float anchor_spacing = 0.5f;
+  std::size_t min_anchor_points = 30;
+  std::size_t max_anchors = 64;
   /** Kernel scale of the coarse score (eq. 4): tolerant of the rotation grid's spacing. */
   float coarse_kernel = 0.02f;
   /** Hypotheses kept after the coarse pass and refined on the field. */
@@ -74,11 +77,18 @@ double
 fieldKernelScore(const ClosestPointField& field, const std::vector<Eigen::Vector3f>& scene_points,
                  const Eigen::Isometry3f& scene_to_model, float kernel);
 
-/** \brief Where the model's visible centroid is placed: the centroid of all points and, for a
- * cluster that spreads wider than the model (see merged_cluster_ratio), local centroids. */
-std::vector<Eigen::Vector3f>
+/** \brief Where the global search places the model's visible centroid, and the scene points
+ * that score it there. */
+struct SearchAnchor {
+  Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+  std::vector<Eigen::Vector3f> subset;
+};
+
+/** \brief The search's anchors: the centroid of all points with a random subsample, or, for a
+ * cluster that spreads wider than the model (see merged_cluster_ratio), local windows. */
+std::vector<SearchAnchor>
 translationAnchors(const std::vector<Eigen::Vector3f>& points, float model_radius,
-                   const GlobalSearchParams& params);
+                   const GlobalSearchParams& params, std::uint64_t seed);
 
 /** \brief A seeded random subset of \a count points (all of them when there are fewer). */
 std::vector<Eigen::Vector3f>

@@ -38,7 +38,8 @@ namespace pcl {
  * - setMaximumIterations, setTransformationEpsilon (squared translation of a step),
  *   setTransformationRotationEpsilon (cosine of a step's angle) and
  *   setEuclideanFitnessEpsilon drive the refinement; registerVisualizationCallback is called
- *   after each refinement iteration with the source in the model frame.
+ *   after each refinement iteration with the source in the model frame (PCL's base calls it
+ *   once at registration with the source and target: set both before registering it).
  * - NaN points of organized clouds are skipped. An empty or all-NaN source gives status
  *   TooFewPoints; no mesh gives NoModel (and PCL's own error from initCompute).
  *

@@ -95,7 +95,7 @@ IterativeClosestFace<PointSource, Scalar>::computeTransformation(PointCloudSourc
 
   icf::IterationCallback callback;
   if (update_visualizer_)
-    callback = [this, &points](const Eigen::Isometry3f& T, int) {
+    callback = [this](const Eigen::Isometry3f& T, int) {
       PointCloudSource moved;
       pcl::transformPointCloud(*input_, moved, T.matrix());
       const pcl::Indices none;

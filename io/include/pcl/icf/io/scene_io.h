@@ -1,0 +1,69 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#pragma once
+
+#include <pcl/icf/io/mesh_io.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <cstddef>
+#include <string>
+
+namespace pcl {
+namespace icf {
+namespace io {
+
+/** \brief Thrown when a scene file was read correctly but holds no usable point: no points at
+ * all, or only points with a NaN or infinite coordinate. A FileError, so one catch handles
+ * every unusable input; the message names the file and says which case it is. */
+class EmptyCloudError : public FileError {
+ public:
+  using FileError::FileError;
+};
+
+/** \brief What loadSceneCloud found in the file besides the points. */
+struct SceneFileInfo {
+  std::string format;             ///< "pcd", "ply" or "xyz" (.asc files too)
+  bool has_colour = false;        ///< the file had rgb / rgba (or red, green, blue) fields
+  bool organized = false;         ///< height > 1 (a depth image's grid, kept as it was)
+  std::size_t points = 0;         ///< width * height
+  std::size_t finite_points = 0;  ///< points whose x, y and z are all finite
+};
+
+/** \brief Largest cloud loadSceneCloud accepts (points), to fail fast on absurd headers or
+ * files: 50 million, about 25 Kinect frames. */
+constexpr std::size_t kMaxScenePoints = 50000000;
+
+/** \brief Load a scene point cloud, chosen by the extension (case-insensitive):
+ *
+ * - .pcd: PCL's reader (ascii, binary, binary_compressed). An organized cloud stays organized
+ *   (width x height, NaN where the sensor saw nothing) and the file's VIEWPOINT becomes
+ *   sensor_origin_ / sensor_orientation_.
+ * - .ply: PCL's reader; the vertices are the points (faces, if any, are ignored).
+ * - .xyz / .asc: plain text as the thesis's capture program wrote it, one point per line:
+ *   three numbers "x y z", or six "x y z r g b" with r, g, b integers in [0, 255]; numbers
+ *   are separated by spaces, tabs or commas; blank lines and lines starting with '#' are
+ *   skipped; "nan" is read as NaN. Any other line is an error naming its line number.
+ *
+ * Without colour in the file every point gets white (r = g = b = a = 255) and
+ * info->has_colour is false. Units are whatever the file holds (PCL's convention: metres).
+ *
+ * \param[in] path the file
+ * \param[out] info optional: format, colour, organisation and point counts
+ * \throws FileError when the file is missing, empty, unreadable, of an unknown extension,
+ * malformed, truncated, or larger than kMaxScenePoints
+ * \throws EmptyCloudError when the file has no points or no finite point */
+pcl::PointCloud<pcl::PointXYZRGBA>::Ptr loadSceneCloud(const std::string& path,
+                                                       SceneFileInfo* info = nullptr);
+
+/** \brief Parse the text of an .xyz / .asc file (see loadSceneCloud); \a name is used in error
+ * messages. Exposed for tests. \throws FileError, EmptyCloudError as loadSceneCloud. */
+pcl::PointCloud<pcl::PointXYZRGBA>::Ptr parseXyzText(const std::string& text,
+                                                     const std::string& name,
+                                                     bool* has_colour = nullptr);
+
+}  // namespace io
+}  // namespace icf
+}  // namespace pcl

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (the "fuzz" preset: clang, ASan+UBSan) and runs each for
+# FUZZ_SECONDS (default 60). Exits non-zero when a target finds a crash, a hang, a leak or a
+# failed check; the input is kept under build/fuzz/artifacts/<target>/.
+#
+#   scripts/fuzz.sh                          every target, 60 s each
+#   FUZZ_SECONDS=3600 scripts/fuzz.sh fuzz_scene_pcd fuzz_pipeline
+#   FUZZ_JOBS=2 ...                          libFuzzer workers per target (default 1)
+#
+# New inputs that reach new code go to build/fuzz/corpus/<target>/ (kept between runs); the
+# committed seeds in fuzz/corpus/<target>/ are only read. See doc/HOSTILE_INPUTS.md.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+FUZZ_SECONDS=${FUZZ_SECONDS:-60}
+FUZZ_JOBS=${FUZZ_JOBS:-1}
+ALL=(fuzz_scene_pcd fuzz_scene_ply fuzz_scene_xyz fuzz_mesh_ply fuzz_mesh_obj fuzz_mesh_stl
+     fuzz_pipeline)
+TARGETS=("${@:-${ALL[@]}}")
+
+start=$(date +%s)
+nice cmake --preset fuzz >/dev/null
+nice cmake --build --preset fuzz -j "${JOBS:-1}"
+echo "== fuzz: built in $(( $(date +%s) - start )) s"
+
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+failed=()
+for t in "${TARGETS[@]}"; do
+  work=build/fuzz/corpus/$t
+  artifacts=build/fuzz/artifacts/$t/
+  mkdir -p "$work" "$artifacts"
+  log=build/fuzz/$t.log
+  echo "== fuzz: $t for ${FUZZ_SECONDS} s"
+  args=(-max_total_time="$FUZZ_SECONDS" -rss_limit_mb=2048 -timeout=10 -print_final_stats=1
+        -artifact_prefix="$artifacts")
+  if [ "$FUZZ_JOBS" -gt 1 ]; then
+    args+=(-fork="$FUZZ_JOBS" -ignore_crashes=0)
+  fi
+  if nice "build/fuzz/fuzz/$t" "${args[@]}" "$work" "fuzz/corpus/$t" >"$log" 2>&1; then
+    grep -E '^stat::number_of_executed_units|^#[0-9]+[[:space:]]+DONE' "$log" | tail -2 || true
+  else
+    echo "fuzz: $t FAILED (log: $log, input: $(ls -t "$artifacts" | head -1))" >&2
+    grep -E 'ERROR|SUMMARY|check failed|deadly|timeout|leak' "$log" | head -5 >&2 || true
+    failed+=("$t")
+  fi
+done
+echo "== fuzz: done in $(( $(date +%s) - start )) s"
+if [ ${#failed[@]} -gt 0 ]; then
+  echo "fuzz: failing targets: ${failed[*]}" >&2
+  exit 1
+fi

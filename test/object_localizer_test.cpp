@@ -1,0 +1,202 @@
+// The localizer on synthetic table-top scenes shaped like the thesis's scenarios (chapter 6):
+// the target must be found in the right cluster at the right pose, among distractors that
+// beat it on point count; scenario 6, where the thesis failed, with the colour cue. Real data:
+// the YCB-Video frame, whose four objects touch and merge into one cluster.
+#include "support/depth_camera.h"
+#include "support/pose_error.h"
+#include "support/synthetic_models.h"
+#include "test_paths.h"
+
+#include <pcl/icf/io/mesh_io.h>
+#include <pcl/icf/segmentation/object_localizer.h>
+#include <pcl/io/pcd_io.h>
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <map>
+
+namespace {
+
+using namespace pcl::icf;
+using pcl::icf::segmentation::LocalizationStatus;
+using pcl::icf::segmentation::LocalizerParams;
+
+struct Scenario {
+  std::string name;
+  std::vector<std::string> objects;  // the first is the target
+  std::vector<Eigen::Vector3d> placements;
+  bool use_colour = false;
+};
+
+/** Label (1-based object index) most of the cluster's points carry in the rendered scan. */
+int
+majorityLabel(const std::vector<int>& labels, const pcl::PointIndices& cluster)
+{
+  std::map<int, int> votes;
+  for (const auto i : cluster.indices)
+    ++votes[labels[static_cast<std::size_t>(i)]];
+  int best = -1, count = -1;
+  for (const auto& kv : votes)
+    if (kv.second > count) {
+      best = kv.first;
+      count = kv.second;
+    }
+  return best;
+}
+
+test::SyntheticModel
+scenarioModel(const std::string& name)
+{
+  if (name == "BigBox")
+    return {"BigBox", test::makeBox(0.22, 0.15, 0.09), test::Symmetry::box(0.22, 0.15, 0.09),
+            Eigen::Vector3f(0.2f, 0.6f, 0.2f)};
+  return test::thesisModel(name);
+}
+
+class ThesisScenarios : public ::testing::TestWithParam<Scenario> {};
+
+// Tolerances: the target stands upright, seen from 0.6 m at 45 degrees with the Kinect-like
+// noise; 5 mm and 3 degrees as for single clusters.
+TEST_P(ThesisScenarios, FindsTheTargetInTheRightClusterAtTheRightPose)
+{
+  const Scenario& s = GetParam();
+  std::vector<test::SyntheticModel> models;
+  for (const auto& name : s.objects)
+    models.push_back(scenarioModel(name));
+  // Sensor noise as in the single-cluster tests, without their 5% uniform outliers: spread
+  // over the whole table they would chain every object into one cluster at the thesis's 2 cm
+  // tolerance, which no real depth camera does (its outliers sit at depth edges).
+  test::ScanNoise noise;
+  noise.outlier_ratio = 0.0;
+  const test::TabletopScene scene =
+      test::makeTabletopScene(models, s.placements, test::CameraIntrinsics(), noise);
+  const IcfModel::ConstPtr model = IcfModel::build(models.front().mesh);
+  LocalizerParams params;
+  if (s.use_colour)
+    params.colour.expected = models.front().rgb;
+  const auto result = segmentation::localizeObject(*scene.scan.cloud, *model, params);
+  for (std::size_t k = 0; k < result.clusters.size(); ++k) {
+    const auto& c = result.clusters[k];
+    std::cout << s.name << " cluster " << k << " (label "
+              << majorityLabel(scene.scan.labels, c.indices) << ", " << c.indices.indices.size()
+              << " points): score " << c.score << ", coverage " << c.icf.quality.surface_coverage
+              << ", inliers " << c.icf.quality.inlier_ratio << ", rmse "
+              << 1e3 * c.icf.quality.rmse << " mm, free space "
+              << c.free_space_violation << ", continuation " << c.boundary_continuation
+              << ", gate " << c.gate_far_points
+              << (c.colour_similarity ? ", colour " + std::to_string(*c.colour_similarity) : "")
+              << (c.accepted ? " ACCEPTED" : " rejected: " + c.reason) << "\n";
+  }
+  ASSERT_EQ(result.status, LocalizationStatus::Found) << result.message;
+  ASSERT_EQ(result.clusters.size(), s.objects.size()) << "one cluster per object";
+  const auto& best = result.clusters[static_cast<std::size_t>(result.best)];
+  EXPECT_EQ(majorityLabel(scene.scan.labels, best.indices), 1) << "the target's cluster";
+  const auto error = test::poseError(Eigen::Isometry3d(best.icf.object_pose.cast<double>()),
+                                     scene.poses.front(), models.front().symmetry);
+  EXPECT_LE(error.translation, 0.005);
+  EXPECT_LE(error.rotation_deg, 3.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Localizer, ThesisScenarios,
+    ::testing::Values(
+        Scenario{"S1_box_cup_statue", {"Box5", "Cup", "Statue"},
+                 {{0.0, 0.0, 0.4}, {-0.2, 0.05, 0.0}, {0.2, -0.03, 0.7}}},
+        Scenario{"S2_small_box_big_box", {"Box5", "BigBox"}, {{-0.12, 0.0, 0.3}, {0.14, 0.02, -0.2}}},
+        Scenario{"S3_salt_box", {"YellowRoundSalt", "Box5"}, {{-0.1, 0.0, 0.0}, {0.12, 0.0, 0.5}}},
+        Scenario{"S4_salt_cup_box", {"YellowRoundSalt", "Cup", "Box5"},
+                 {{0.0, 0.0, 0.0}, {-0.17, 0.0, 0.0}, {0.18, 0.03, 1.0}}},
+        Scenario{"S5_hexprism_cylinder", {"Amicelly", "EisKaffe"}, {{-0.1, 0.0, 0.3}, {0.1, 0.0, 0.0}}},
+        Scenario{"S6_cylinder_hexprism_colour", {"EisKaffe", "Amicelly"},
+                 {{0.1, 0.0, 0.0}, {-0.1, 0.0, 0.3}}, true}),
+    [](const auto& info) { return info.param.name; });
+
+TEST(Localizer, BadScenesGiveAStatus)
+{
+  const IcfModel::ConstPtr model = IcfModel::build(test::thesisModel("Box5").mesh);
+  pcl::PointCloud<pcl::PointXYZ> empty;
+  EXPECT_EQ(segmentation::localizeObject(empty, *model).status, LocalizationStatus::BadScene);
+  pcl::PointCloud<pcl::PointXYZ> three;
+  for (int i = 0; i < 3; ++i)
+    three.push_back(pcl::PointXYZ(0.01f * i, 0.f, 1.f));
+  const auto r = segmentation::localizeObject(three, *model);
+  EXPECT_NE(r.status, LocalizationStatus::Found);
+  EXPECT_FALSE(r.message.empty());
+  LocalizerParams whole;
+  whole.segment = false;  // a 3-point "cluster": too few points, a status not a crash
+  const auto w = segmentation::localizeObject(three, *model, whole);
+  EXPECT_EQ(w.status, LocalizationStatus::NotFound);
+  ASSERT_EQ(w.clusters.size(), 1u);
+  EXPECT_EQ(w.clusters[0].icf.status, IcfStatus::TooFewPoints);
+}
+
+// Real data: one YCB-Video frame with ground truth; the four objects on its table touch, so
+// one cluster holds them all. The bar: within 1 cm of the ground-truth pose, ADD-S under 10% of
+// the object's diameter (depth alone cannot tell a box from its 180-degree flip).
+Eigen::Isometry3d
+ycbTruth(const std::string& gt_path, const std::string& key)
+{
+  std::ifstream in(gt_path);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::size_t at = text.find(key);
+  EXPECT_NE(at, std::string::npos) << key;
+  at = text.find('[', at);
+  Eigen::Matrix4d m;
+  int filled = 0;
+  const char* p = text.c_str() + at;
+  while (filled < 16 && *p) {
+    if ((*p >= '0' && *p <= '9') || *p == '-' || *p == '.') {
+      char* end = nullptr;
+      m(filled / 4, filled % 4) = std::strtod(p, &end);
+      ++filled;
+      p = end;
+    }
+    else
+      ++p;
+  }
+  return Eigen::Isometry3d(m);
+}
+
+class YcbObjects : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(YcbObjects, FoundInTheMergedClusterWithin1cm)
+{
+  PCL_ICF_REQUIRE_SHARED(scene_path, "ycbv/ycbv_frame000002.pcd");
+  PCL_ICF_REQUIRE_SHARED(gt_path, "ycbv/gt.json");
+  const std::string object = GetParam();
+  PCL_ICF_REQUIRE_SHARED(mesh_path, "ycbv/" + object + ".obj");
+  pcl::PointCloud<pcl::PointXYZRGB> scene;
+  ASSERT_EQ(pcl::io::loadPCDFile(scene_path, scene), 0);
+  const pcl::PolygonMesh mesh = io::loadPolygonMesh(mesh_path);
+  const IcfModel::ConstPtr model = IcfModel::build(mesh);
+  const auto result = segmentation::localizeObject(scene, *model);
+  const Eigen::Isometry3d truth = ycbTruth(gt_path, object);
+  for (const auto& c : result.clusters)
+    std::cout << object << ": cluster of " << c.indices.indices.size() << " points (parent "
+              << c.parent << "), score " << c.score << ", coverage "
+              << c.icf.quality.surface_coverage << ", inliers " << c.icf.quality.inlier_ratio
+              << ", continuation " << c.boundary_continuation << ", free space "
+              << c.free_space_violation << ", gate " << c.gate_far_points << ", off by "
+              << 1e3 * (c.icf.object_pose.block<3, 1>(0, 3).cast<double>() - truth.translation())
+                           .norm()
+              << " mm, " << (c.accepted ? "ACCEPTED" : "rejected: " + c.reason) << "\n";
+  ASSERT_EQ(result.status, LocalizationStatus::Found) << result.message;
+  const auto& best = result.clusters[static_cast<std::size_t>(result.best)];
+  const Eigen::Isometry3d estimate(best.icf.object_pose.cast<double>());
+  const double t_err = (estimate.translation() - truth.translation()).norm();
+  const double adds = test::addS(mesh, estimate, truth);
+  const double diameter = test::modelDiameter(mesh);
+  RecordProperty("translation_mm", std::to_string(1e3 * t_err));
+  RecordProperty("adds_over_diameter", std::to_string(adds / diameter));
+  std::cout << object << ": translation error " << 1e3 * t_err << " mm, ADD-S " << 1e3 * adds
+            << " mm (" << 100 * adds / diameter << "% of " << 1e3 * diameter << " mm)\n";
+  EXPECT_LE(t_err, 0.01);
+  EXPECT_LE(adds, 0.1 * diameter);
+}
+
+INSTANTIATE_TEST_SUITE_P(Localizer, YcbObjects,
+                         ::testing::Values("004_sugar_box_textured",
+                                           "010_potted_meat_can_textured"));
+
+}  // namespace

@@ -1,0 +1,369 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#include "tool_options.h"
+
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace pcl_icf_tool {
+
+const char* unitsName(Units units) {
+  switch (units) {
+    case Units::Metres:
+      return "m";
+    case Units::Millimetres:
+      return "mm";
+    default:
+      return "auto";
+  }
+}
+
+double metresPerUnit(Units units) {
+  return units == Units::Millimetres ? 1e-3 : 1.0;
+}
+
+namespace {
+
+/** Walks argv; options take their value as the next word or after '='. */
+class Args {
+ public:
+  Args(int argc, const char* const* argv) : argv_(argv + 1, argv + argc) {}
+
+  bool done() const { return i_ >= argv_.size(); }
+  std::string next() {
+    std::string word = argv_[i_++];
+    value_.clear();
+    has_value_ = false;
+    const auto eq = word.find('=');
+    if (word.rfind("--", 0) == 0 && eq != std::string::npos) {
+      value_ = word.substr(eq + 1);
+      has_value_ = true;
+      word = word.substr(0, eq);
+    }
+    return word;
+  }
+  std::string value(const std::string& option) {
+    if (has_value_) {
+      has_value_ = false;
+      return value_;
+    }
+    if (i_ >= argv_.size())
+      throw UsageError(option + " needs a value");
+    return argv_[i_++];
+  }
+  /** For a flag: "--flag=..." is an error. */
+  void noValue(const std::string& option) const {
+    if (has_value_)
+      throw UsageError(option + " takes no value");
+  }
+
+ private:
+  std::vector<std::string> argv_;
+  std::size_t i_ = 0;
+  std::string value_;
+  bool has_value_ = false;
+};
+
+double parseDouble(const std::string& option, const std::string& text) {
+  double v = 0.0;
+  const char* b = text.data();
+  const char* e = b + text.size();
+  if (b < e && *b == '+')
+    ++b;
+  const auto [ptr, ec] = std::from_chars(b, e, v);
+  if (text.empty() || ec != std::errc() || ptr != e || !std::isfinite(v))
+    throw UsageError(option + ": '" + text + "' is not a number");
+  return v;
+}
+
+double parsePositive(const std::string& option, const std::string& text) {
+  const double v = parseDouble(option, text);
+  if (!(v > 0.0))
+    throw UsageError(option + ": " + text + " must be > 0");
+  return v;
+}
+
+double parseFraction(const std::string& option, const std::string& text) {
+  const double v = parseDouble(option, text);
+  if (!(v >= 0.0 && v <= 1.0))
+    throw UsageError(option + ": " + text + " must be in [0, 1]");
+  return v;
+}
+
+long long parseInteger(const std::string& option, const std::string& text, long long min,
+                       long long max) {
+  long long v = 0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (text.empty() || ec != std::errc() || ptr != text.data() + text.size())
+    throw UsageError(option + ": '" + text + "' is not an integer");
+  if (v < min || v > max)
+    throw UsageError(option + ": " + text + " must be in [" + std::to_string(min) + ", " +
+                     std::to_string(max) + "]");
+  return v;
+}
+
+std::uint64_t parseSeed(const std::string& option, const std::string& text) {
+  std::uint64_t v = 0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (text.empty() || ec != std::errc() || ptr != text.data() + text.size())
+    throw UsageError(option + ": '" + text + "' is not a non-negative integer");
+  return v;
+}
+
+Units parseUnits(const std::string& option, const std::string& text) {
+  if (text == "m")
+    return Units::Metres;
+  if (text == "mm")
+    return Units::Millimetres;
+  if (text == "auto")
+    return Units::Auto;
+  throw UsageError(option + ": '" + text + "' is not m, mm or auto");
+}
+
+/** "R,G,B" with integers in [0, 255], or "#rrggbb"; channels returned in [0, 1]. */
+Eigen::Vector3f parseColour(const std::string& option, const std::string& text) {
+  Eigen::Vector3f c;
+  if (text.size() == 7 && text[0] == '#') {
+    for (int i = 0; i < 3; ++i) {
+      unsigned v = 0;
+      const char* b = text.data() + 1 + 2 * i;
+      const auto [ptr, ec] = std::from_chars(b, b + 2, v, 16);
+      if (ec != std::errc() || ptr != b + 2)
+        throw UsageError(option + ": '" + text + "' is not a colour (R,G,B or #rrggbb)");
+      c[i] = static_cast<float>(v) / 255.f;
+    }
+    return c;
+  }
+  std::stringstream in(text);
+  std::string part;
+  int i = 0;
+  while (std::getline(in, part, ',')) {
+    if (i == 3)
+      throw UsageError(option + ": '" + text + "' has more than 3 channels (R,G,B)");
+    c[i++] = static_cast<float>(parseInteger(option, part, 0, 255)) / 255.f;
+  }
+  if (i != 3)
+    throw UsageError(option + ": '" + text + "' is not a colour (R,G,B in 0-255, or #rrggbb)");
+  return c;
+}
+
+pcl::icf::SearchStrategy parseStrategy(const std::string& option, const std::string& text) {
+  try {
+    return pcl::icf::parseSearchStrategy(text);
+  } catch (const std::invalid_argument&) {
+    throw UsageError(option + ": '" + text + "' is not a strategy (fast or thesis)");
+  }
+}
+
+}  // namespace
+
+ToolOptions parseToolOptions(int argc, const char* const* argv) {
+  ToolOptions o;
+  auto& p = o.params;
+  std::vector<std::string> positional;
+  Args args(argc, argv);
+  while (!args.done()) {
+    const std::string a = args.next();
+    if (a == "-h" || a == "--help") {
+      o.help = true;
+      return o;
+    } else if (a == "--units")
+      o.units = parseUnits(a, args.value(a));
+    else if (a == "--model-units")
+      o.model_units = parseUnits(a, args.value(a));
+    else if (a == "--no-segment") {
+      args.noValue(a);
+      p.segment = false;
+    } else if (a == "--strategy")
+      p.icf.strategy = parseStrategy(a, args.value(a));
+    else if (a == "--fallback") {
+      const std::string v = args.value(a);
+      try {
+        p.icf.fallback = pcl::icf::parseFallbackPolicy(v);
+      } catch (const std::invalid_argument&) {
+        throw UsageError(a + ": '" + v + "' is not off, auto or always");
+      }
+    } else if (a == "--seed")
+      p.icf.seed = parseSeed(a, args.value(a));
+    else if (a == "--threads") {
+      const int t = static_cast<int>(parseInteger(a, args.value(a), 0, 1024));
+      p.threads = t;
+      p.icf.threads = t;
+    } else if (a == "--color" || a == "--colour") {
+      const std::string v = args.value(a);
+      if (v == "none")
+        p.colour.expected.reset();
+      else
+        p.colour.expected = parseColour(a, v);
+    } else if (a == "--color-weight" || a == "--colour-weight")
+      p.colour.weight = parseDouble(a, args.value(a));
+    else if (a == "--cluster-tolerance")
+      p.segmentation.cluster.tolerance = parsePositive(a, args.value(a));
+    else if (a == "--min-cluster-size")
+      p.segmentation.cluster.min_size =
+          static_cast<std::size_t>(parseInteger(a, args.value(a), 1, 100000000));
+    else if (a == "--inlier-distance")
+      p.icf.acceptance.inlier_distance = static_cast<float>(parsePositive(a, args.value(a)));
+    else if (a == "--min-coverage")
+      p.icf.acceptance.min_surface_coverage = parseFraction(a, args.value(a));
+    else if (a == "--max-rmse")
+      p.icf.acceptance.max_rmse = parsePositive(a, args.value(a));
+    else if (a == "--gate-distance")
+      p.gate_distance = static_cast<float>(parsePositive(a, args.value(a)));
+    else if (a == "--gate-max-far")
+      p.gate_max_far_points = static_cast<int>(parseInteger(a, args.value(a), 0, 100000000));
+    else if (a == "--no-gate") {
+      args.noValue(a);
+      p.thesis_gate = false;
+    } else if (a == "--max-free-space")
+      p.max_free_space_violation = parseFraction(a, args.value(a));
+    else if (a == "--json")
+      o.json = args.value(a);
+    else if (a == "--output")
+      o.output = args.value(a);
+    else if (a == "--render")
+      o.render = args.value(a);
+    else if (a == "--render-size") {
+      const std::string v = args.value(a);
+      const auto x = v.find('x');
+      if (x == std::string::npos)
+        throw UsageError(a + ": '" + v + "' is not WIDTHxHEIGHT");
+      o.render_width = static_cast<int>(parseInteger(a, v.substr(0, x), 64, 8192));
+      o.render_height = static_cast<int>(parseInteger(a, v.substr(x + 1), 64, 8192));
+    } else if (a == "--render-color" || a == "--render-colour")
+      o.render_colour = parseColour(a, args.value(a));
+    else if (a == "--view") {
+      args.noValue(a);
+      o.view = true;
+    } else if (a == "--force" || a == "-f") {
+      args.noValue(a);
+      o.force = true;
+    } else if (a == "--quiet" || a == "-q") {
+      args.noValue(a);
+      o.quiet = true;
+    } else if (a == "--verbose" || a == "-v") {
+      args.noValue(a);
+      o.verbose = true;
+    } else if (a == "--batch")
+      o.batch = args.value(a);
+    else if (a == "--out-dir")
+      o.out_dir = args.value(a);
+    else if (a == "--render-all") {
+      args.noValue(a);
+      o.render_all = true;
+    } else if (a == "--output-all") {
+      args.noValue(a);
+      o.output_all = true;
+    } else if (a.size() > 1 && a[0] == '-' && a != "-")
+      throw UsageError("unknown option " + a + " (see -h)");
+    else
+      positional.push_back(a);
+  }
+
+  if (!o.batch.empty()) {
+    if (positional.size() != 1)
+      throw UsageError("--batch SCENES takes exactly one MODEL argument, got " +
+                       std::to_string(positional.size()));
+    o.model = positional[0];
+    if (o.out_dir.empty())
+      throw UsageError("--batch needs --out-dir DIR for its JSON files");
+    if (!o.json.empty() || !o.output.empty() || !o.render.empty() || o.view)
+      throw UsageError(
+          "--json, --output, --render and --view are for one scene; with --batch "
+          "use --out-dir, --render-all and --output-all");
+  } else {
+    if (positional.size() != 2)
+      throw UsageError(positional.size() < 2 ? "expected SCENE and MODEL (see -h)"
+                                             : "too many arguments: expected SCENE MODEL");
+    o.scene = positional[0];
+    o.model = positional[1];
+    if (!o.out_dir.empty() || o.render_all || o.output_all)
+      throw UsageError("--out-dir, --render-all and --output-all need --batch");
+  }
+  if (p.colour.expected && !(p.colour.weight >= 0.0))
+    throw UsageError("--color-weight must be >= 0");
+  try {
+    p.validate();
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("invalid parameter: ") + e.what());
+  }
+  return o;
+}
+
+std::string usageText(const std::string& program) {
+  const ToolOptions d;
+  const auto& p = d.params;
+  std::ostringstream u;
+  u << "Finds the 6D pose of a CAD mesh in a depth scan by Iterative Closest Face.\n"
+    << "\n"
+    << "Syntax is: " << program << " SCENE MODEL <options>\n"
+    << "       or: " << program << " --batch SCENES MODEL --out-dir DIR <options>\n"
+    << "  SCENE  a point cloud: .pcd, .ply, or .xyz/.asc (one \"x y z\" per line)\n"
+    << "  MODEL  the object's mesh: .ply, .obj, .stl or .vtk\n"
+    << "  where options are:\n"
+    << "  Input:\n"
+    << "    --units m|mm|auto        = the scene's units (default: auto, millimetres when the\n"
+    << "                               scene spans more than 20 units)\n"
+    << "    --model-units m|mm|auto  = the mesh's units (default: auto, millimetres when the\n"
+    << "                               mesh spans more than 2 units)\n"
+    << "    --no-segment             = the cloud is one object: no table segmentation\n"
+    << "  Search (lengths in metres, whatever the files' units):\n"
+    << "    --strategy fast|thesis   = the pose search (default: "
+    << pcl::icf::toString(p.icf.strategy) << ")\n"
+    << "    --fallback off|auto|always = the SampleConsensus (FPFH) alignment: auto tries it\n"
+    << "                               when the search's pose is rejected (default: "
+    << pcl::icf::toString(p.icf.fallback) << ")\n"
+    << "    --seed N                 = random seed; same seed, same result (default: " << p.icf.seed
+    << ")\n"
+    << "    --threads N              = threads, 0 for all cores (default: " << p.threads << ")\n"
+    << "    --color R,G,B|#rrggbb|none = the object's colour, ranks clusters by colour\n"
+    << "                               (default: none)\n"
+    << "    --color-weight W         = weight of the colour cue (default: " << p.colour.weight
+    << ")\n"
+    << "    --cluster-tolerance D    = gap that separates objects (default: "
+    << p.segmentation.cluster.tolerance << ")\n"
+    << "    --min-cluster-size N     = smallest object, in points (default: "
+    << p.segmentation.cluster.min_size << ")\n"
+    << "  Acceptance:\n"
+    << "    --inlier-distance D      = scene points this near the model are inliers (default: "
+    << p.icf.acceptance.inlier_distance << ")\n"
+    << "    --min-coverage F         = share of the model's visible surface the scan must\n"
+    << "                               cover (default: " << p.icf.acceptance.min_surface_coverage
+    << ")\n"
+    << "    --max-rmse D             = RMS distance of the inliers (default: "
+    << p.icf.acceptance.max_rmse << ")\n"
+    << "    --gate-distance D        = the thesis's gate: a cluster with more than N points\n"
+    << "                               farther than D from the posed model is rejected\n"
+    << "                               (default: " << p.gate_distance << ")\n"
+    << "    --gate-max-far N         = that N (default: " << p.gate_max_far_points << ")\n"
+    << "    --no-gate                = turn the thesis's gate off\n"
+    << "    --max-free-space F       = share of the model the camera may see through (default: "
+    << p.max_free_space_violation << ")\n"
+    << "  Output:\n"
+    << "    --json FILE              = the result as JSON (poses in the scene's units)\n"
+    << "    --output FILE.ply        = the model moved to its pose, in the scene's units\n"
+    << "    --render FILE.png        = picture of the scene with the posed model, from the\n"
+    << "                               camera (no display needed: xvfb-run when DISPLAY is unset)\n"
+    << "    --render-size WxH        = picture size (default: an organized scene's own size\n"
+    << "                               scaled to about 640 wide, else 800x600)\n"
+    << "    --render-color R,G,B     = the model's colour in pictures (default: 26,255,51)\n"
+    << "    --view                   = open a viewer; click a point to print its coordinates\n"
+    << "    -f, --force              = replace existing output files (inputs never)\n"
+    << "    -q, --quiet              = print nothing but errors\n"
+    << "    -v, --verbose            = also show PCL's and VTK's own messages\n"
+    << "  Batch:\n"
+    << "    --batch SCENES           = a directory of scenes, or a text file listing them\n"
+    << "    --out-dir DIR            = writes DIR/<scene>.json for each, and DIR/summary.json\n"
+    << "    --render-all             = also DIR/<scene>.png\n"
+    << "    --output-all             = also DIR/<scene>.ply for each pose found\n"
+    << "\n"
+    << "Exit status: 0 object found, 1 nothing accepted, 2 bad usage or bad input.\n"
+    << "In batch mode: 2 if any scene could not be read, else 1 if any scene had no object.\n";
+  return u.str();
+}
+
+}  // namespace pcl_icf_tool

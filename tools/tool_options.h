@@ -1,0 +1,69 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#pragma once
+
+/** \file
+ * \brief pcl_icf_tool's command line: the options, their parsing and the usage text. */
+
+#include <pcl/icf/segmentation/object_localizer.h>
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace pcl_icf_tool {
+
+/** \brief Bad usage: an unknown option, a missing or nonsense value. Exit code 2. */
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/** \brief Units of a scene or a mesh as given on the command line. */
+enum class Units { Auto, Metres, Millimetres };
+
+/** "m" / "mm" (Auto has no name of its own: "auto"). */
+const char* unitsName(Units units);
+/** Metres per unit: 1 or 0.001. */
+double metresPerUnit(Units units);
+
+/** \brief Everything pcl_icf_tool was asked to do. */
+struct ToolOptions {
+  bool help = false;
+  std::string scene;  ///< SCENE (single mode)
+  std::string model;  ///< MODEL
+  /** --batch SCENES: a directory (every .pcd, .ply, .xyz, .asc in it, sorted) or a text file
+   * listing scene paths (one a line, '#' comments, relative to the list's folder). */
+  std::string batch;
+  std::string out_dir;      ///< --out-dir (batch)
+  bool render_all = false;  ///< --render-all (batch): DIR/<scene>.png for every scene
+  bool output_all = false;  ///< --output-all (batch): DIR/<scene>.ply for every found pose
+
+  Units units = Units::Auto;        ///< --units
+  Units model_units = Units::Auto;  ///< --model-units
+
+  pcl::icf::segmentation::LocalizerParams params;  ///< everything the localizer gets
+  std::string json;                                ///< --json FILE
+  std::string output;                              ///< --output FILE.ply
+  std::string render;                              ///< --render FILE.png
+  int render_width = 0;  ///< --render-size WxH; 0: from the scene (see renderPng)
+  int render_height = 0;
+  Eigen::Vector3f render_colour{0.1f, 1.0f, 0.2f};  ///< --render-color, channels in [0, 1]
+  bool view = false;                                ///< --view
+  bool force = false;                               ///< --force
+  bool quiet = false;                               ///< -q
+  bool verbose = false;                             ///< -v: PCL's and VTK's own messages too
+};
+
+/** \brief Parse argv. \throws UsageError with a one-line reason. Calls params.validate(). */
+ToolOptions parseToolOptions(int argc, const char* const* argv);
+
+/** \brief The usage text, in the style of PCL's tools; defaults printed from the code. */
+std::string usageText(const std::string& program);
+
+}  // namespace pcl_icf_tool

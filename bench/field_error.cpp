@@ -15,9 +15,7 @@ using namespace pcl::icf;
 
 namespace {
 
-void
-report(const std::string& name, const FaceMesh& mesh)
-{
+void report(const std::string& name, const FaceMesh& mesh) {
   const EmbreeClosestFaceIndex index(mesh);
   const ClosestPointField field(index);
   std::mt19937_64 rng(1);
@@ -41,11 +39,10 @@ report(const std::string& name, const FaceMesh& mesh)
 
 }  // namespace
 
-int
-main()
-{
-  std::printf("| mesh | faces | cell (mm) | medial cells | median error (mm) | p99 (mm) | max (mm) "
-              "|\n|---|---|---|---|---|---|---|\n");
+int main() {
+  std::printf(
+      "| mesh | faces | cell (mm) | medial cells | median error (mm) | p99 (mm) | max (mm) "
+      "|\n|---|---|---|---|---|---|---|\n");
   report("box 14x9x5 cm", FaceMesh::build(test::makeBox(0.14, 0.09, 0.05)));
   report("cylinder (YellowRoundSalt)", FaceMesh::build(test::thesisModel("YellowRoundSalt").mesh));
   const std::string bunny = std::string(PCL_ICF_SHARED_DATA) + "/meshes/bunny.ply";

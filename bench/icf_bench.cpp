@@ -27,9 +27,7 @@ struct Stats {
   int ok = 0;
 };
 
-double
-median(std::vector<double> v)
-{
+double median(std::vector<double> v) {
   if (v.empty())
     return 0.0;
   std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
@@ -38,9 +36,7 @@ median(std::vector<double> v)
 
 using Method = std::function<Eigen::Matrix4f(const pcl::PointCloud<pcl::PointXYZ>::Ptr&)>;
 
-Stats
-run(const test::SyntheticModel& model, const Method& method, int trials)
-{
+Stats run(const test::SyntheticModel& model, const Method& method, int trials) {
   Stats s;
   for (int trial = 0; trial < trials; ++trial) {
     const std::uint64_t seed = 5000 + static_cast<std::uint64_t>(trial);
@@ -56,8 +52,7 @@ run(const test::SyntheticModel& model, const Method& method, int trials)
     const auto start = Clock::now();
     const Eigen::Matrix4f pose = method(cluster);
     s.ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
-    const auto e =
-        test::poseError(Eigen::Isometry3d(pose.cast<double>()), truth, model.symmetry);
+    const auto e = test::poseError(Eigen::Isometry3d(pose.cast<double>()), truth, model.symmetry);
     s.t_mm.push_back(1e3 * e.translation);
     s.r_deg.push_back(e.rotation_deg);
     s.ok += e.translation <= 0.005 && e.rotation_deg <= 3.0;
@@ -65,9 +60,7 @@ run(const test::SyntheticModel& model, const Method& method, int trials)
   return s;
 }
 
-void
-row(const std::string& model, const std::string& method, const Stats& s)
-{
+void row(const std::string& model, const std::string& method, const Stats& s) {
   std::printf("| %s | %s | %zu | %.0f%% | %.2f | %.2f | %.1f |\n", model.c_str(), method.c_str(),
               s.ms.size(), 100.0 * s.ok / std::max<std::size_t>(1, s.ms.size()), median(s.t_mm),
               median(s.r_deg), median(s.ms));
@@ -76,13 +69,12 @@ row(const std::string& model, const std::string& method, const Stats& s)
 
 }  // namespace
 
-int
-main(int argc, char** argv)
-{
+int main(int argc, char** argv) {
   const int trials = argc > 1 ? std::max(1, std::atoi(argv[1])) : 50;
   const int thesis_trials = argc > 2 ? std::max(0, std::atoi(argv[2])) : 3;
-  std::printf("| model | method | trials | success (5 mm, 3 deg) | median t err (mm) | "
-              "median r err (deg) | median time (ms) |\n|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| model | method | trials | success (5 mm, 3 deg) | median t err (mm) | "
+      "median r err (deg) | median time (ms) |\n|---|---|---|---|---|---|---|\n");
   for (const std::string& name : test::thesisModelNames()) {
     const test::SyntheticModel model = test::thesisModel(name);
     const auto mesh = pcl::make_shared<pcl::PolygonMesh>(model.mesh);

@@ -17,18 +17,14 @@ using namespace pcl::icf;
 
 namespace {
 
-double
-median(std::vector<double> v)
-{
+double median(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
   return v[v.size() / 2];
 }
 
 template <typename PointT>
-void
-time(const std::string& name, const pcl::PointCloud<PointT>& scene, const IcfModel& model,
-     int runs)
-{
+void time(const std::string& name, const pcl::PointCloud<PointT>& scene, const IcfModel& model,
+          int runs) {
   std::vector<double> seg, reg, total;
   std::size_t clusters = 0;
   bool found = false;
@@ -47,19 +43,18 @@ time(const std::string& name, const pcl::PointCloud<PointT>& scene, const IcfMod
 
 }  // namespace
 
-int
-main(int argc, char** argv)
-{
+int main(int argc, char** argv) {
   const int runs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 9;
-  std::printf("| scene | points | clusters tried | found | segmentation (ms) | registration (ms) "
-              "| whole scene (ms) |\n|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| scene | points | clusters tried | found | segmentation (ms) | registration (ms) "
+      "| whole scene (ms) |\n|---|---|---|---|---|---|---|\n");
   const std::vector<test::SyntheticModel> objects = {
       test::thesisModel("Box5"), test::thesisModel("Cup"), test::thesisModel("Statue")};
   test::ScanNoise noise;
   noise.outlier_ratio = 0.0;
-  const auto scene = test::makeTabletopScene(
-      objects, {{0.0, 0.0, 0.4}, {-0.2, 0.05, 0.0}, {0.2, -0.03, 0.7}}, test::CameraIntrinsics(),
-      noise);
+  const auto scene =
+      test::makeTabletopScene(objects, {{0.0, 0.0, 0.4}, {-0.2, 0.05, 0.0}, {0.2, -0.03, 0.7}},
+                              test::CameraIntrinsics(), noise);
   const auto box = IcfModel::build(objects.front().mesh);
   time("synthetic 640x480, 3 objects (Box5 target)", *scene.scan.cloud, *box, runs);
 

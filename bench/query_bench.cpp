@@ -27,9 +27,7 @@ struct Model {
   std::vector<Eigen::Vector3f> queries;
 };
 
-std::unique_ptr<FaceMesh>
-loadModel(const std::string& name)
-{
+std::unique_ptr<FaceMesh> loadModel(const std::string& name) {
   if (name == "box")
     return std::make_unique<FaceMesh>(FaceMesh::build(test::makeBox(0.14, 0.09, 0.05)));
   if (name == "cylinder")
@@ -43,9 +41,7 @@ loadModel(const std::string& name)
   return std::make_unique<FaceMesh>(FaceMesh::build(io::loadPolygonMesh(path), options));
 }
 
-Model&
-model(const std::string& name)
-{
+Model& model(const std::string& name) {
   static std::map<std::string, Model> cache;
   auto it = cache.find(name);
   if (it != cache.end())
@@ -60,15 +56,13 @@ model(const std::string& name)
     std::uniform_real_distribution<float> offset(-0.005f, 0.005f);
     std::normal_distribution<float> g;
     for (const auto& s : sampleSurface(*m.mesh, 1 << 16, 2))
-      m.queries.push_back(s.point + offset(rng) * Eigen::Vector3f(g(rng), g(rng), g(rng))
-                                                      .normalized());
+      m.queries.push_back(s.point +
+                          offset(rng) * Eigen::Vector3f(g(rng), g(rng), g(rng)).normalized());
   }
   return cache.emplace(name, std::move(m)).first->second;
 }
 
-void
-exactQueries(benchmark::State& state, const std::string& name, float radius)
-{
+void exactQueries(benchmark::State& state, const std::string& name, float radius) {
   Model& m = model(name);
   if (!m.mesh) {
     state.SkipWithError("mesh missing from ../shared/data");
@@ -83,9 +77,7 @@ exactQueries(benchmark::State& state, const std::string& name, float radius)
   state.counters["faces"] = static_cast<double>(m.mesh->size());
 }
 
-void
-bruteQueries(benchmark::State& state, const std::string& name)
-{
+void bruteQueries(benchmark::State& state, const std::string& name) {
   Model& m = model(name);
   if (!m.mesh) {
     state.SkipWithError("mesh missing from ../shared/data");
@@ -99,9 +91,7 @@ bruteQueries(benchmark::State& state, const std::string& name)
   state.SetItemsProcessed(state.iterations());
 }
 
-void
-fieldLookups(benchmark::State& state, const std::string& name)
-{
+void fieldLookups(benchmark::State& state, const std::string& name) {
   Model& m = model(name);
   if (!m.mesh) {
     state.SkipWithError("mesh missing from ../shared/data");
@@ -116,9 +106,7 @@ fieldLookups(benchmark::State& state, const std::string& name)
   state.counters["cell_mm"] = 1e3 * m.field->cellSize();
 }
 
-void
-fieldBuild(benchmark::State& state, const std::string& name)
-{
+void fieldBuild(benchmark::State& state, const std::string& name) {
   Model& m = model(name);
   if (!m.mesh) {
     state.SkipWithError("mesh missing from ../shared/data");

@@ -26,21 +26,19 @@
 #include <string>
 
 /** A wrong answer given without an error: print what and abort, so libFuzzer keeps the input. */
-#define PCL_ICF_FUZZ_CHECK(condition, what)                                                    \
-  do {                                                                                         \
-    if (!(condition)) {                                                                        \
+#define PCL_ICF_FUZZ_CHECK(condition, what)                                                   \
+  do {                                                                                        \
+    if (!(condition)) {                                                                       \
       std::fprintf(stderr, "pcl_icf fuzz check failed: %s (%s) at %s:%d\n", #condition, what, \
-                   __FILE__, __LINE__);                                                        \
-      std::abort();                                                                            \
-    }                                                                                          \
+                   __FILE__, __LINE__);                                                       \
+      std::abort();                                                                           \
+    }                                                                                         \
   } while (false)
 
 namespace pcl_icf_fuzz {
 
 /** Silences PCL's console (its readers print every parse error). Call once per process. */
-inline void
-quiet()
-{
+inline void quiet() {
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
 }
 
@@ -50,8 +48,7 @@ quiet()
  * times slower. The file is unlinked, not truncated, before each write for the same reason. */
 class ScratchFile {
  public:
-  explicit ScratchFile(const std::string& extension)
-  {
+  explicit ScratchFile(const std::string& extension) {
     std::error_code ec;
     const std::filesystem::path shm("/dev/shm");
     const std::filesystem::path base =
@@ -62,17 +59,14 @@ class ScratchFile {
     std::filesystem::create_directories(dir_);
     path_ = (dir_ / ("input." + extension)).string();
   }
-  ~ScratchFile()
-  {
+  ~ScratchFile() {
     std::error_code ec;
     std::filesystem::remove_all(dir_, ec);
   }
   ScratchFile(const ScratchFile&) = delete;
   ScratchFile& operator=(const ScratchFile&) = delete;
 
-  const std::string&
-  write(const std::uint8_t* data, std::size_t size) const
-  {
+  const std::string& write(const std::uint8_t* data, std::size_t size) const {
     std::error_code ec;
     std::filesystem::remove(path_, ec);
     std::ofstream out(path_, std::ios::binary);
@@ -88,10 +82,8 @@ class ScratchFile {
 };
 
 /** Invariants of a cloud loadSceneCloud returned without throwing. */
-inline void
-checkScene(const pcl::PointCloud<pcl::PointXYZRGBA>& cloud,
-           const pcl::icf::io::SceneFileInfo& info)
-{
+inline void checkScene(const pcl::PointCloud<pcl::PointXYZRGBA>& cloud,
+                       const pcl::icf::io::SceneFileInfo& info) {
   PCL_ICF_FUZZ_CHECK(!cloud.empty(), "a returned cloud has points");
   PCL_ICF_FUZZ_CHECK(static_cast<std::size_t>(cloud.width) * cloud.height == cloud.size(),
                      "width x height = size");
@@ -100,9 +92,9 @@ checkScene(const pcl::PointCloud<pcl::PointXYZRGBA>& cloud,
                      "info.finite_points");
   PCL_ICF_FUZZ_CHECK(info.organized == (cloud.height > 1), "info.organized");
   PCL_ICF_FUZZ_CHECK(cloud.size() <= pcl::icf::io::kMaxScenePoints, "kMaxScenePoints");
-  PCL_ICF_FUZZ_CHECK(cloud.sensor_origin_.allFinite() &&
-                         cloud.sensor_orientation_.coeffs().allFinite(),
-                     "finite viewpoint");
+  PCL_ICF_FUZZ_CHECK(
+      cloud.sensor_origin_.allFinite() && cloud.sensor_orientation_.coeffs().allFinite(),
+      "finite viewpoint");
   std::size_t finite = 0;
   for (const auto& p : cloud)
     finite += std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
@@ -111,25 +103,20 @@ checkScene(const pcl::PointCloud<pcl::PointXYZRGBA>& cloud,
 }
 
 /** Loads a scene file of the given extension; a FileError is an accepted outcome. */
-inline void
-fuzzSceneFile(const ScratchFile& file, const std::uint8_t* data, std::size_t size)
-{
+inline void fuzzSceneFile(const ScratchFile& file, const std::uint8_t* data, std::size_t size) {
   const std::string& path = file.write(data, size);
   try {
     pcl::icf::io::SceneFileInfo info;
     const auto cloud = pcl::icf::io::loadSceneCloud(path, &info);
     PCL_ICF_FUZZ_CHECK(cloud != nullptr, "loadSceneCloud returns a cloud or throws");
     checkScene(*cloud, info);
-  }
-  catch (const pcl::icf::io::FileError&) {
+  } catch (const pcl::icf::io::FileError&) {
   }
 }
 
 /** Invariants of a FaceMesh that FaceMesh::build returned; on small meshes also the Embree
  * index against brute force at a few query points (a wrong distance is a finding too). */
-inline void
-checkFaceMesh(const pcl::icf::FaceMesh& mesh)
-{
+inline void checkFaceMesh(const pcl::icf::FaceMesh& mesh) {
   using pcl::icf::Face;
   PCL_ICF_FUZZ_CHECK(mesh.size() >= 1, "a built mesh has faces");
   const auto& indices = mesh.faceVertexIndices();
@@ -169,22 +156,18 @@ checkFaceMesh(const pcl::icf::FaceMesh& mesh)
 
 /** Loads a mesh file of the given extension and builds its FaceMesh; FileError and
  * InvalidMeshError are accepted outcomes. */
-inline void
-fuzzMeshFile(const ScratchFile& file, const std::uint8_t* data, std::size_t size)
-{
+inline void fuzzMeshFile(const ScratchFile& file, const std::uint8_t* data, std::size_t size) {
   const std::string& path = file.write(data, size);
   pcl::PolygonMesh mesh;
   try {
     mesh = pcl::icf::io::loadPolygonMesh(path);
-  }
-  catch (const pcl::icf::io::FileError&) {
+  } catch (const pcl::icf::io::FileError&) {
     return;
   }
   PCL_ICF_FUZZ_CHECK(mesh.cloud.width * mesh.cloud.height > 0, "a loaded mesh has vertices");
   try {
     checkFaceMesh(pcl::icf::FaceMesh::build(mesh));
-  }
-  catch (const pcl::icf::InvalidMeshError&) {
+  } catch (const pcl::icf::InvalidMeshError&) {
   }
 }
 

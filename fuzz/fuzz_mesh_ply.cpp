@@ -5,16 +5,12 @@
 // libFuzzer target: the PLY mesh loader, then FaceMesh::build and the index.
 #include "fuzz_common.h"
 
-extern "C" int
-LLVMFuzzerInitialize(int*, char***)
-{
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
   pcl_icf_fuzz::quiet();
   return 0;
 }
 
-extern "C" int
-LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
-{
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const pcl_icf_fuzz::ScratchFile file("ply");
   pcl_icf_fuzz::fuzzMeshFile(file, data, size);
   return 0;

@@ -21,9 +21,9 @@
 //     (3 x int8 x 5 mm, or 3 x float32), at most 400
 #include "fuzz_common.h"
 
+#include <pcl/conversions.h>
 #include <pcl/icf/estimate_pose.h>
 #include <pcl/icf/icf_model.h>
-#include <pcl/conversions.h>
 #include <pcl/point_types.h>
 
 #include <cstring>
@@ -34,29 +34,15 @@ namespace {
 class Bytes {
  public:
   Bytes(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
-  std::uint8_t
-  byte()
-  {
-    return pos_ < size_ ? data_[pos_++] : 0;
-  }
-  float
-  quantized()
-  {
-    return 0.005f * static_cast<float>(static_cast<std::int8_t>(byte()));
-  }
-  float
-  raw()
-  {
+  std::uint8_t byte() { return pos_ < size_ ? data_[pos_++] : 0; }
+  float quantized() { return 0.005f * static_cast<float>(static_cast<std::int8_t>(byte())); }
+  float raw() {
     std::uint8_t b[4] = {byte(), byte(), byte(), byte()};
     float v;
     std::memcpy(&v, b, 4);
     return v;
   }
-  std::size_t
-  left() const
-  {
-    return size_ - std::min(pos_, size_);
-  }
+  std::size_t left() const { return size_ - std::min(pos_, size_); }
 
  private:
   const std::uint8_t* data_;
@@ -64,9 +50,7 @@ class Bytes {
   std::size_t pos_ = 0;
 };
 
-pcl::PolygonMesh
-decodeMesh(Bytes& in, bool raw)
-{
+pcl::PolygonMesh decodeMesh(Bytes& in, bool raw) {
   const std::size_t vertices = 3 + in.byte() % 30, faces = 1 + in.byte() % 40;
   pcl::PointCloud<pcl::PointXYZ> cloud;
   for (std::size_t v = 0; v < vertices; ++v) {
@@ -88,9 +72,7 @@ decodeMesh(Bytes& in, bool raw)
   return mesh;
 }
 
-pcl::icf::IcfParams
-tinyBudget(std::uint8_t flags, int threads)
-{
+pcl::icf::IcfParams tinyBudget(std::uint8_t flags, int threads) {
   pcl::icf::IcfParams p;
   p.strategy = (flags & 8) ? pcl::icf::SearchStrategy::Thesis : pcl::icf::SearchStrategy::Fast;
   p.global.rotations = 24;
@@ -115,16 +97,12 @@ tinyBudget(std::uint8_t flags, int threads)
 
 }  // namespace
 
-extern "C" int
-LLVMFuzzerInitialize(int*, char***)
-{
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
   pcl_icf_fuzz::quiet();
   return 0;
 }
 
-extern "C" int
-LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
-{
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   Bytes in(data, size);
   const std::uint8_t flags = in.byte();
   const pcl::PolygonMesh mesh = decodeMesh(in, flags & 1);
@@ -137,8 +115,7 @@ LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
   pcl::icf::IcfModel::ConstPtr model;
   try {
     model = pcl::icf::IcfModel::build(mesh, model_params);
-  }
-  catch (const std::invalid_argument&) {  // InvalidMeshError is one
+  } catch (const std::invalid_argument&) {  // InvalidMeshError is one
     return 0;
   }
   pcl_icf_fuzz::checkFaceMesh(model->mesh());
@@ -154,8 +131,7 @@ LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
     pose.translation() = Eigen::Vector3f(in.quantized(), in.quantized(), 0.5f + in.quantized());
     for (const auto& s : pcl::icf::sampleSurface(model->mesh(), count, in.byte()))
       scene.push_back(pose * s.point);
-  }
-  else {
+  } else {
     const bool raw = flags & 2;
     while (scene.size() < 400 && in.left() >= (raw ? 12u : 3u))
       scene.emplace_back(raw ? in.raw() : in.quantized(), raw ? in.raw() : in.quantized(),
@@ -175,9 +151,9 @@ LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
   const Eigen::Matrix3f r = result.object_pose.topLeftCorner<3, 3>();
   PCL_ICF_FUZZ_CHECK((r * r.transpose() - Eigen::Matrix3f::Identity()).norm() < 1e-3f,
                      "a rotation");
-  PCL_ICF_FUZZ_CHECK(std::isfinite(result.quality.rmse) &&
-                         std::isfinite(result.quality.surface_coverage),
-                     "finite quality");
+  PCL_ICF_FUZZ_CHECK(
+      std::isfinite(result.quality.rmse) && std::isfinite(result.quality.surface_coverage),
+      "finite quality");
   if (result.accepted())
     PCL_ICF_FUZZ_CHECK(result.quality.inliers >= 10, "accepted with enough inliers");
   if (flags & 32) {

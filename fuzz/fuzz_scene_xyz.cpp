@@ -6,16 +6,12 @@
 // loadSceneCloud runs on the file's bytes).
 #include "fuzz_common.h"
 
-extern "C" int
-LLVMFuzzerInitialize(int*, char***)
-{
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
   pcl_icf_fuzz::quiet();
   return 0;
 }
 
-extern "C" int
-LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
-{
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
     bool colour = false;
@@ -29,8 +25,7 @@ LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
       PCL_ICF_FUZZ_CHECK(p.a == 255, "opaque");
     }
     PCL_ICF_FUZZ_CHECK(dense == cloud->is_dense, "is_dense");
-  }
-  catch (const pcl::icf::io::FileError&) {
+  } catch (const pcl::icf::io::FileError&) {
   }
   return 0;
 }

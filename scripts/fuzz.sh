@@ -19,7 +19,7 @@ TARGETS=("${@:-${ALL[@]}}")
 
 start=$(date +%s)
 nice cmake --preset fuzz >/dev/null
-nice cmake --build --preset fuzz -j "${JOBS:-1}"
+nice cmake --build --preset fuzz -j "${JOBS:-$(nproc)}"
 echo "== fuzz: built in $(( $(date +%s) - start )) s"
 
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
@@ -33,6 +33,12 @@ for t in "${TARGETS[@]}"; do
   echo "== fuzz: $t for ${FUZZ_SECONDS} s"
   args=(-max_total_time="$FUZZ_SECONDS" -rss_limit_mb=2048 -timeout=10 -print_final_stats=1
         -artifact_prefix="$artifacts")
+  # The pipeline keeps SampleConsensus models in a process-wide cache, so inputs allocate more
+  # than they free and libFuzzer would scan the heap for leaks after each (half its time);
+  # ASan's leak check at exit stays on.
+  if [ "$t" = fuzz_pipeline ]; then
+    args+=(-detect_leaks=0)
+  fi
   if [ "$FUZZ_JOBS" -gt 1 ]; then
     args+=(-fork="$FUZZ_JOBS" -ignore_crashes=0)
   fi

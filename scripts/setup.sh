@@ -7,7 +7,7 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libpcl-dev libopenmpi-dev libeigen3-dev libembree-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  clang clang-format
+  clang clang-format libclang-rt-14-dev libomp-14-dev
   xvfb xauth gnuplot-nox
   nlohmann-json3-dev
 )

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Sets up, builds and runs every test: the release build and, unless SKIP_SANITIZERS=1, an
-# ASan+UBSan build of the tests. Used by the README and by .ci/run.
+# ASan+UBSan build of the tests; with RUN_TSAN=1 (.ci/run sets it) also a ThreadSanitizer build
+# of the multi-threaded tests (clang, libomp + Archer: doc/HOSTILE_INPUTS.md). Used by the
+# README and by .ci/run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -14,4 +16,10 @@ if [ "${SKIP_SANITIZERS:-0}" != 1 ]; then
   cmake --preset asan >/dev/null
   cmake --build --preset asan -j "$JOBS"
   ctest --preset asan -j "$JOBS"
+fi
+
+if [ "${RUN_TSAN:-0}" = 1 ]; then
+  cmake --preset tsan >/dev/null
+  cmake --build --preset tsan -j "$JOBS"
+  ctest --preset tsan -j "$JOBS"
 fi

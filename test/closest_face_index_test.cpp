@@ -19,9 +19,7 @@ using pcl::icf::FaceMesh;
 
 // Both answers are computed by the same float closest-point routine on the winning face, so
 // equal distances are expected up to the rounding of ties: 1e-6 relative to the mesh size.
-void
-expectSameAnswers(const FaceMesh& mesh, int count, std::uint64_t seed, float radius)
-{
+void expectSameAnswers(const FaceMesh& mesh, int count, std::uint64_t seed, float radius) {
   const BruteForceClosestFace brute(mesh);
   const EmbreeClosestFaceIndex index(mesh);
   const Eigen::Vector3f lo = mesh.boundsMin(), hi = mesh.boundsMax();
@@ -47,8 +45,7 @@ expectSameAnswers(const FaceMesh& mesh, int count, std::uint64_t seed, float rad
   }
 }
 
-TEST(ClosestFaceIndex, MatchesBruteForceOnThesisModels)
-{
+TEST(ClosestFaceIndex, MatchesBruteForceOnThesisModels) {
   for (const auto& name : pcl::icf::test::thesisModelNames()) {
     SCOPED_TRACE(name);
     const auto mesh = FaceMesh::build(pcl::icf::test::thesisModel(name).mesh);
@@ -57,8 +54,7 @@ TEST(ClosestFaceIndex, MatchesBruteForceOnThesisModels)
   }
 }
 
-TEST(ClosestFaceIndex, MatchesBruteForceOnTheBunny)
-{
+TEST(ClosestFaceIndex, MatchesBruteForceOnTheBunny) {
   PCL_ICF_REQUIRE_SHARED(path, "meshes/bunny.ply");
   const auto mesh = FaceMesh::build(pcl::icf::io::loadPolygonMesh(path));
   EXPECT_EQ(mesh.size() + mesh.report().degenerate_dropped + mesh.report().duplicate_dropped,
@@ -67,8 +63,7 @@ TEST(ClosestFaceIndex, MatchesBruteForceOnTheBunny)
   expectSameAnswers(mesh, 2000, 14, 0.01f);
 }
 
-TEST(ClosestFaceIndex, RadiusBoundsTheSearch)
-{
+TEST(ClosestFaceIndex, RadiusBoundsTheSearch) {
   const auto mesh = FaceMesh::build(pcl::icf::test::makeBox(0.2, 0.2, 0.2));
   const EmbreeClosestFaceIndex index(mesh);
   const Eigen::Vector3f p(0.f, 0.f, 0.15f);  // 5 cm above the top face
@@ -80,8 +75,7 @@ TEST(ClosestFaceIndex, RadiusBoundsTheSearch)
   EXPECT_FALSE(index.closestFace(Eigen::Vector3f(NAN, 0.f, 0.f)).found());
 }
 
-TEST(ClosestFaceIndex, ConcurrentQueriesGiveTheSameAnswers)
-{
+TEST(ClosestFaceIndex, ConcurrentQueriesGiveTheSameAnswers) {
   const auto mesh = FaceMesh::build(pcl::icf::test::thesisModel("YellowRoundSalt").mesh);
   const EmbreeClosestFaceIndex index(mesh);
   std::vector<Eigen::Vector3f> points;
@@ -103,8 +97,7 @@ TEST(ClosestFaceIndex, ConcurrentQueriesGiveTheSameAnswers)
   EXPECT_EQ(serial, parallel);
 }
 
-TEST(ResidualDirection, FaceNormalInsideAndOffsetOnEdges)
-{
+TEST(ResidualDirection, FaceNormalInsideAndOffsetOnEdges) {
   const auto mesh = FaceMesh::build(pcl::icf::test::makeBox(0.2, 0.2, 0.2));
   const BruteForceClosestFace brute(mesh);
   const Eigen::Vector3f above(0.f, 0.f, 0.2f);

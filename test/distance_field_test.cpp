@@ -23,10 +23,8 @@ struct ErrorStats {
   float max = 0.f, p99 = 0.f, median = 0.f;
 };
 
-ErrorStats
-measure(const ClosestPointField& field, const EmbreeClosestFaceIndex& index, float band,
-        int count, std::uint64_t seed)
-{
+ErrorStats measure(const ClosestPointField& field, const EmbreeClosestFaceIndex& index, float band,
+                   int count, std::uint64_t seed) {
   const FaceMesh& mesh = index.mesh();
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<float> u(0.f, 1.f);
@@ -44,8 +42,7 @@ measure(const ClosestPointField& field, const EmbreeClosestFaceIndex& index, flo
   return {errors.back(), errors[errors.size() * 99 / 100], errors[errors.size() / 2]};
 }
 
-TEST(ClosestPointField, ExactAboveTheMiddleOfAFace)
-{
+TEST(ClosestPointField, ExactAboveTheMiddleOfAFace) {
   const auto mesh = FaceMesh::build(pcl::icf::test::makeBox(0.2, 0.2, 0.2));
   const EmbreeClosestFaceIndex index(mesh);
   const ClosestPointField field(index);
@@ -54,8 +51,7 @@ TEST(ClosestPointField, ExactAboveTheMiddleOfAFace)
     ASSERT_NEAR(field.distance(Eigen::Vector3f(0.013f, -0.021f, z)), std::abs(z - 0.1f), 2e-6f);
 }
 
-TEST(ClosestPointField, WithinItsBoundNearTheSurface)
-{
+TEST(ClosestPointField, WithinItsBoundNearTheSurface) {
   for (const auto& name : pcl::icf::test::thesisModelNames()) {
     SCOPED_TRACE(name);
     const auto mesh = FaceMesh::build(pcl::icf::test::thesisModel(name).mesh);
@@ -69,8 +65,7 @@ TEST(ClosestPointField, WithinItsBoundNearTheSurface)
   }
 }
 
-TEST(ClosestPointField, WithinItsBoundOnTheBunny)
-{
+TEST(ClosestPointField, WithinItsBoundOnTheBunny) {
   PCL_ICF_REQUIRE_SHARED(path, "meshes/bunny.ply");
   const auto mesh = FaceMesh::build(pcl::icf::io::loadPolygonMesh(path));
   const EmbreeClosestFaceIndex index(mesh);
@@ -80,8 +75,7 @@ TEST(ClosestPointField, WithinItsBoundOnTheBunny)
   EXPECT_LE(e.p99, 0.25f * field.cellSize());
 }
 
-TEST(ClosestPointField, BeyondTheGridAtLeastTheMargin)
-{
+TEST(ClosestPointField, BeyondTheGridAtLeastTheMargin) {
   const auto mesh = FaceMesh::build(pcl::icf::test::makeBox(0.2, 0.2, 0.2));
   const EmbreeClosestFaceIndex index(mesh);
   DistanceFieldParams params;
@@ -91,8 +85,7 @@ TEST(ClosestPointField, BeyondTheGridAtLeastTheMargin)
     EXPECT_GE(field.distance(Eigen::Vector3f(x, 0.f, 0.f)), params.margin - 1e-6f) << x;
 }
 
-TEST(ClosestPointField, AbsurdParametersAreRejected)
-{
+TEST(ClosestPointField, AbsurdParametersAreRejected) {
   const auto mesh = FaceMesh::build(pcl::icf::test::makeBox(0.2, 0.2, 0.2));
   const EmbreeClosestFaceIndex index(mesh);
   DistanceFieldParams p;
@@ -106,8 +99,7 @@ TEST(ClosestPointField, AbsurdParametersAreRejected)
   EXPECT_THROW(ClosestPointField(index, p), std::invalid_argument);
 }
 
-TEST(ClosestPointField, ContentDoesNotDependOnThreads)
-{
+TEST(ClosestPointField, ContentDoesNotDependOnThreads) {
   const auto mesh = FaceMesh::build(pcl::icf::test::thesisModel("Amicelly").mesh);
   const EmbreeClosestFaceIndex index(mesh);
   DistanceFieldParams one, two;

@@ -10,9 +10,8 @@
 
 namespace {
 
-pcl::PolygonMesh
-meshOf(const std::vector<Eigen::Vector3f>& vertices, const std::vector<pcl::Indices>& faces)
-{
+pcl::PolygonMesh meshOf(const std::vector<Eigen::Vector3f>& vertices,
+                        const std::vector<pcl::Indices>& faces) {
   pcl::PointCloud<pcl::PointXYZ> cloud;
   for (const auto& v : vertices)
     cloud.push_back(pcl::PointXYZ(v.x(), v.y(), v.z()));
@@ -28,8 +27,7 @@ meshOf(const std::vector<Eigen::Vector3f>& vertices, const std::vector<pcl::Indi
 
 const std::vector<Eigen::Vector3f> kSquare = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
 
-TEST(FaceMesh, RectangleStaysOneFaceWithNormalAndArea)
-{
+TEST(FaceMesh, RectangleStaysOneFaceWithNormalAndArea) {
   const auto mesh = pcl::icf::FaceMesh::build(meshOf(kSquare, {{0, 1, 2, 3}}));
   ASSERT_EQ(mesh.size(), 1u);
   EXPECT_EQ(mesh.faces()[0].count, 4u);
@@ -39,8 +37,7 @@ TEST(FaceMesh, RectangleStaysOneFaceWithNormalAndArea)
   EXPECT_TRUE(mesh.surfaceCentroid().isApprox(Eigen::Vector3f(0.5f, 0.5f, 0.f)));
 }
 
-TEST(FaceMesh, ConcavePolygonIsTriangulatedKeepingItsArea)
-{
+TEST(FaceMesh, ConcavePolygonIsTriangulatedKeepingItsArea) {
   // An L shape of area 3 (unit squares), concave at (1, 1).
   const std::vector<Eigen::Vector3f> l = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0},
                                           {1, 1, 0}, {1, 2, 0}, {0, 2, 0}};
@@ -52,8 +49,7 @@ TEST(FaceMesh, ConcavePolygonIsTriangulatedKeepingItsArea)
     EXPECT_GT(f.normal.z(), 0.99f);
 }
 
-TEST(FaceMesh, NonPlanarQuadIsTriangulated)
-{
+TEST(FaceMesh, NonPlanarQuadIsTriangulated) {
   auto bent = kSquare;
   bent[2].z() = 0.3f;
   const auto mesh = pcl::icf::FaceMesh::build(meshOf(bent, {{0, 1, 2, 3}}));
@@ -61,21 +57,19 @@ TEST(FaceMesh, NonPlanarQuadIsTriangulated)
   EXPECT_EQ(mesh.size(), 2u);
 }
 
-TEST(FaceMesh, DegenerateAndDuplicateFacesAreDroppedAndCounted)
-{
+TEST(FaceMesh, DegenerateAndDuplicateFacesAreDroppedAndCounted) {
   auto v = kSquare;
-  v.push_back({2, 0, 0});                                 // collinear with 0 and 1
-  v.push_back({std::nanf(""), 0, 0});                     // non-finite vertex
-  const auto mesh = pcl::icf::FaceMesh::build(meshOf(
-      v, {{0, 1, 2}, {2, 0, 1}, {0, 1, 4}, {0, 0, 1}, {0, 2, 5}, {0, 2, 3}}));
+  v.push_back({2, 0, 0});              // collinear with 0 and 1
+  v.push_back({std::nanf(""), 0, 0});  // non-finite vertex
+  const auto mesh = pcl::icf::FaceMesh::build(
+      meshOf(v, {{0, 1, 2}, {2, 0, 1}, {0, 1, 4}, {0, 0, 1}, {0, 2, 5}, {0, 2, 3}}));
   EXPECT_EQ(mesh.size(), 2u);
   EXPECT_EQ(mesh.report().duplicate_dropped, 1u);   // {2, 0, 1} is {0, 1, 2} again
   EXPECT_EQ(mesh.report().degenerate_dropped, 2u);  // zero area, repeated vertex
   EXPECT_EQ(mesh.report().nonfinite_dropped, 1u);
 }
 
-TEST(FaceMesh, MeshesThatCannotBeModelsThrowClearly)
-{
+TEST(FaceMesh, MeshesThatCannotBeModelsThrowClearly) {
   using pcl::icf::InvalidMeshError;
   EXPECT_THROW(pcl::icf::FaceMesh::build(pcl::PolygonMesh()), InvalidMeshError);
   EXPECT_THROW(pcl::icf::FaceMesh::build(meshOf(kSquare, {})), InvalidMeshError);
@@ -84,18 +78,15 @@ TEST(FaceMesh, MeshesThatCannotBeModelsThrowClearly)
   try {
     pcl::icf::FaceMesh::build(meshOf(kSquare, {{0, 1, 1}, {2, 2, 2}}));
     FAIL() << "an all-degenerate mesh must throw";
-  }
-  catch (const InvalidMeshError& e) {
+  } catch (const InvalidMeshError& e) {
     EXPECT_NE(std::string(e.what()).find("no usable face"), std::string::npos) << e.what();
   }
   pcl::icf::FaceMeshOptions bad;
   bad.scale = -1.f;
-  EXPECT_THROW(pcl::icf::FaceMesh::build(meshOf(kSquare, {{0, 1, 2}}), bad),
-               std::invalid_argument);
+  EXPECT_THROW(pcl::icf::FaceMesh::build(meshOf(kSquare, {{0, 1, 2}}), bad), std::invalid_argument);
 }
 
-TEST(FaceMesh, ScaleConvertsUnits)
-{
+TEST(FaceMesh, ScaleConvertsUnits) {
   pcl::icf::FaceMeshOptions mm;
   mm.scale = 1e-3f;
   std::vector<Eigen::Vector3f> big;
@@ -105,8 +96,7 @@ TEST(FaceMesh, ScaleConvertsUnits)
   EXPECT_NEAR(mesh.totalArea(), 1.0, 1e-5);
 }
 
-TEST(FaceMesh, SurfaceSamplesLieOnFacesAndFollowArea)
-{
+TEST(FaceMesh, SurfaceSamplesLieOnFacesAndFollowArea) {
   // Two faces: a unit square at z = 0 and a 2x1 rectangle at z = 1 (area 1 and 2).
   std::vector<Eigen::Vector3f> v = kSquare;
   for (const auto& p : std::vector<Eigen::Vector3f>{{0, 0, 1}, {2, 0, 1}, {2, 1, 1}, {0, 1, 1}})

@@ -53,23 +53,18 @@ namespace test = pcl::icf::test;
 
 /** The tests run under ASan/UBSan too (PCL_ICF_SANITIZED=1): the address-space limit is then
  * left out (the sanitizer reserves terabytes of shadow memory) and the big mesh is smaller. */
-bool
-sanitized()
-{
+bool sanitized() {
   const char* v = std::getenv("PCL_ICF_SANITIZED");
   return v && std::string(v) == "1";
 }
 
 /** Runs \a f and expects an exception of type E whose message contains \a fragment. */
 template <typename E>
-void
-expectError(const std::function<void()>& f, const std::string& fragment)
-{
+void expectError(const std::function<void()>& f, const std::string& fragment) {
   try {
     f();
     ADD_FAILURE() << "no exception; expected one containing '" << fragment << "'";
-  }
-  catch (const E& e) {
+  } catch (const E& e) {
     EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos)
         << "message: " << e.what() << "\nexpected fragment: " << fragment;
   }
@@ -78,9 +73,7 @@ expectError(const std::function<void()>& f, const std::string& fragment)
 /** Runs \a load in a forked child whose address space may grow by at most 256 MB (unless
  * sanitized) and which is killed after 30 s: it must throw a FileError containing \a fragment.
  * A lying header that allocates what it claims dies of std::bad_alloc there instead. */
-void
-expectBoundedFileError(const std::function<void()>& load, const std::string& fragment)
-{
+void expectBoundedFileError(const std::function<void()>& load, const std::string& fragment) {
   std::fflush(nullptr);
   const pid_t child = ::fork();
   ASSERT_GE(child, 0);
@@ -97,16 +90,13 @@ expectBoundedFileError(const std::function<void()>& load, const std::string& fra
     int code = 4;  // no exception
     try {
       load();
-    }
-    catch (const FileError& e) {
+    } catch (const FileError& e) {
       code = std::string(e.what()).find(fragment) != std::string::npos ? 0 : 1;
       if (code)
         std::fprintf(stderr, "message: %s\n", e.what());
-    }
-    catch (const std::bad_alloc&) {
+    } catch (const std::bad_alloc&) {
       code = 2;
-    }
-    catch (...) {
+    } catch (...) {
       code = 3;
     }
     std::_Exit(code);
@@ -117,39 +107,25 @@ expectBoundedFileError(const std::function<void()>& load, const std::string& fra
                                  << " (14: the 30 s alarm, a hang)";
   const char* what[] = {"ok", "a FileError without the fragment", "std::bad_alloc: it allocated",
                         "another exception", "no exception"};
-  EXPECT_EQ(WEXITSTATUS(status), 0) << what[std::min(WEXITSTATUS(status), 4)] << "; expected '"
-                                    << fragment << "'";
+  EXPECT_EQ(WEXITSTATUS(status), 0)
+      << what[std::min(WEXITSTATUS(status), 4)] << "; expected '" << fragment << "'";
 }
 
 class HostileInput : public ::testing::Test {
-protected:
-  void
-  SetUp() override
-  {
+ protected:
+  void SetUp() override {
     dir_ = fs::temp_directory_path() /
            ("pcl_icf_hostile_" + std::to_string(::getpid()) + "_" +
             ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_);
   }
-  void
-  TearDown() override
-  {
-    fs::remove_all(dir_);
-  }
-  std::string
-  path(const std::string& name) const
-  {
-    return (dir_ / name).string();
-  }
-  std::string
-  write(const std::string& name, const std::string& content) const
-  {
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string write(const std::string& name, const std::string& content) const {
     std::ofstream(path(name), std::ios::binary) << content;
     return path(name);
   }
-  std::string
-  cut(const std::string& source, const std::string& name, double keep) const
-  {
+  std::string cut(const std::string& source, const std::string& name, double keep) const {
     std::ifstream in(source, std::ios::binary);
     const std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     return write(name, all.substr(0, static_cast<std::size_t>(keep * all.size())));
@@ -164,9 +140,7 @@ struct View {
   std::vector<Eigen::Vector3f> points;
 };
 
-View
-boxView()
-{
+View boxView() {
   View v;
   v.truth.translate(Eigen::Vector3d(0.03, -0.02, 0.8));
   v.truth.rotate(Eigen::AngleAxisd(0.9, Eigen::Vector3d(1, 0.4, 0.2).normalized()));
@@ -179,35 +153,27 @@ boxView()
 }
 
 /** Within 5 mm and 3 degrees of the truth (symmetry-aware). */
-void
-expectCorrectPose(const IcfResult& r, const View& v)
-{
+void expectCorrectPose(const IcfResult& r, const View& v) {
   ASSERT_EQ(r.status, IcfStatus::Accepted) << pcl::icf::toString(r.status);
-  const auto e = test::poseError(Eigen::Isometry3d(r.object_pose.cast<double>()), v.truth,
-                                 v.model.symmetry);
+  const auto e =
+      test::poseError(Eigen::Isometry3d(r.object_pose.cast<double>()), v.truth, v.model.symmetry);
   EXPECT_LE(e.translation, 0.005);
   EXPECT_LE(e.rotation_deg, 3.0);
 }
 
-IcfResult
-estimate(const IcfModel& model, const std::vector<Eigen::Vector3f>& points)
-{
+IcfResult estimate(const IcfModel& model, const std::vector<Eigen::Vector3f>& points) {
   IcfParams params;
   params.fallback = pcl::icf::FallbackPolicy::Off;
   return pcl::icf::estimatePose(model, points, Eigen::Vector3f::Zero(), params);
 }
 
-const IcfModel&
-boxModel()
-{
+const IcfModel& boxModel() {
   static const IcfModel::ConstPtr model = IcfModel::build(test::makeBox5());
   return *model;
 }
 
-pcl::PolygonMesh
-meshOf(const std::vector<Eigen::Vector3f>& vertices,
-       const std::vector<std::vector<int>>& faces)
-{
+pcl::PolygonMesh meshOf(const std::vector<Eigen::Vector3f>& vertices,
+                        const std::vector<std::vector<int>>& faces) {
   pcl::PointCloud<pcl::PointXYZ> cloud;
   for (const auto& v : vertices)
     cloud.push_back(pcl::PointXYZ(v.x(), v.y(), v.z()));
@@ -224,8 +190,7 @@ meshOf(const std::vector<Eigen::Vector3f>& vertices,
 
 // ---- Files ------------------------------------------------------------------------------
 
-TEST_F(HostileInput, TruncatedPcdAndPlyFiles)
-{
+TEST_F(HostileInput, TruncatedPcdAndPlyFiles) {
   pcl::PointCloud<pcl::PointXYZRGB> cloud;
   for (int i = 0; i < 200; ++i)
     cloud.push_back(pcl::PointXYZRGB(0.01f * i, 0.f, 1.f, 10, 20, 30));
@@ -250,15 +215,13 @@ TEST_F(HostileInput, TruncatedPcdAndPlyFiles)
     try {
       const auto loaded = loadSceneCloud(cut(path("txt.pcd"), "t.pcd", keep));
       ADD_FAILURE() << "a cut ascii PCD loaded " << loaded->size() << " points";
-    }
-    catch (const FileError& e) {
+    } catch (const FileError& e) {
       SUCCEED() << e.what();
     }
   }
 }
 
-TEST_F(HostileInput, GarbagePcdPlyObjStl)
-{
+TEST_F(HostileInput, GarbagePcdPlyObjStl) {
   std::mt19937_64 rng(7);
   std::string garbage(4096, '\0');
   for (char& c : garbage)
@@ -280,8 +243,9 @@ TEST_F(HostileInput, GarbagePcdPlyObjStl)
       "not printable");
   expectError<FileError>(
       [&] {
-        loadPolygonMesh(write("p.ply", "ply\nformat ascii 1.0\nproperty float x\n"
-                                       "element vertex 1\nend_header\n1\n"));
+        loadPolygonMesh(write("p.ply",
+                              "ply\nformat ascii 1.0\nproperty float x\n"
+                              "element vertex 1\nend_header\n1\n"));
       },
       "before any element");
   expectError<FileError>(
@@ -289,24 +253,27 @@ TEST_F(HostileInput, GarbagePcdPlyObjStl)
       ":4: 'a' is not a face vertex");
   expectError<FileError>(
       [&] {
-        loadPolygonMesh(write("two.stl", "solid t\nfacet normal 0 0 1\nouter loop\n"
-                                         "vertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\n"
-                                         "endsolid t\n"));
+        loadPolygonMesh(write("two.stl",
+                              "solid t\nfacet normal 0 0 1\nouter loop\n"
+                              "vertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\n"
+                              "endsolid t\n"));
       },
       "a facet with 2 vertices");
 }
 
-TEST_F(HostileInput, HeadersClaimingBillionsAllocateNothing)
-{
+TEST_F(HostileInput, HeadersClaimingBillionsAllocateNothing) {
   const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
-  const std::string pcd = "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n"
-                          "COUNT 1 1 1\n";
+  const std::string pcd =
+      "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n"
+      "COUNT 1 1 1\n";
   // PCD: points beyond the reader's limit; a compressed block that claims to unpack to more
   // than its points; binary data far shorter than its points.
   expectBoundedFileError(
       [&] {
-        loadSceneCloud(write("w.pcd", pcd + "WIDTH 4000000000\nHEIGHT 1\nPOINTS 4000000000\n"
-                                            "DATA binary\n" + std::string(64, '\0')));
+        loadSceneCloud(write("w.pcd", pcd +
+                                          "WIDTH 4000000000\nHEIGHT 1\nPOINTS 4000000000\n"
+                                          "DATA binary\n" +
+                                          std::string(64, '\0')));
       },
       "more than");
   expectBoundedFileError(
@@ -314,27 +281,35 @@ TEST_F(HostileInput, HeadersClaimingBillionsAllocateNothing)
         std::string body(8, '\0');
         const std::uint32_t sizes[2] = {4, 4000000000u};
         std::memcpy(&body[0], sizes, 8);
-        loadSceneCloud(write("z.pcd", pcd + "WIDTH 10\nHEIGHT 1\nPOINTS 10\n"
-                                            "DATA binary_compressed\n" + body + "abcd"));
+        loadSceneCloud(write("z.pcd", pcd +
+                                          "WIDTH 10\nHEIGHT 1\nPOINTS 10\n"
+                                          "DATA binary_compressed\n" +
+                                          body + "abcd"));
       },
       "unpacks to");
   expectBoundedFileError(
       [&] {
-        loadSceneCloud(write("s.pcd", pcd + "WIDTH 40000000\nHEIGHT 1\nPOINTS 40000000\n"
-                                            "DATA binary\n" + std::string(120, '\0')));
+        loadSceneCloud(write("s.pcd", pcd +
+                                          "WIDTH 40000000\nHEIGHT 1\nPOINTS 40000000\n"
+                                          "DATA binary\n" +
+                                          std::string(120, '\0')));
       },
       "truncated");
   // PLY: vertices and faces by the billion in a file of a few bytes.
   expectBoundedFileError(
       [&] {
-        loadSceneCloud(write("v.ply", "ply\nformat binary_little_endian 1.0\n"
-                                      "element vertex 4000000000\n" + xyz + "end_header\n"));
+        loadSceneCloud(write("v.ply",
+                             "ply\nformat binary_little_endian 1.0\n"
+                             "element vertex 4000000000\n" +
+                                 xyz + "end_header\n"));
       },
       "more than");
   expectBoundedFileError(
       [&] {
-        loadPolygonMesh(write("v.ply", "ply\nformat binary_little_endian 1.0\n"
-                                       "element vertex 3000000000\n" + xyz + "end_header\n"));
+        loadPolygonMesh(write("v.ply",
+                              "ply\nformat binary_little_endian 1.0\n"
+                              "element vertex 3000000000\n" +
+                                  xyz + "end_header\n"));
       },
       "more than");
   expectBoundedFileError(
@@ -351,8 +326,10 @@ TEST_F(HostileInput, HeadersClaimingBillionsAllocateNothing)
         std::string body(3 * 12, '\0');
         body += std::string("\xff\xff\xff\xff", 4);
         loadPolygonMesh(write("l.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 3\n" +
-                                           xyz + "element face 1\nproperty list uint int "
-                                                 "vertex_indices\nend_header\n" + body));
+                                           xyz +
+                                           "element face 1\nproperty list uint int "
+                                           "vertex_indices\nend_header\n" +
+                                           body));
       },
       "truncated");
   // Binary STL: a triangle count of 4 billion in an 84-byte file.
@@ -366,15 +343,13 @@ TEST_F(HostileInput, HeadersClaimingBillionsAllocateNothing)
       "claims 4000000000 triangles");
 }
 
-TEST_F(HostileInput, NanAndInfCoordinates)
-{
+TEST_F(HostileInput, NanAndInfCoordinates) {
   // A scene of nothing but NaN and Inf: EmptyCloudError, which is a FileError.
   expectError<EmptyCloudError>(
       [&] { loadSceneCloud(write("nan.xyz", "nan nan nan\ninf 0 1\n0 -inf 1\n")); },
       "NaN or infinite");
   pcl::icf::io::SceneFileInfo info;
-  const auto cloud = loadSceneCloud(write("mixed.xyz", "0 0 1\nnan 0 1\n1e39 0 1\n0 1 1\n"),
-                                    &info);
+  const auto cloud = loadSceneCloud(write("mixed.xyz", "0 0 1\nnan 0 1\n1e39 0 1\n0 1 1\n"), &info);
   EXPECT_EQ(info.points, 4u);
   EXPECT_EQ(info.finite_points, 2u) << "1e39 overflows float: not finite";
   EXPECT_FALSE(cloud->is_dense);
@@ -410,8 +385,7 @@ TEST_F(HostileInput, NanAndInfCoordinates)
   expectError<InvalidMeshError>([&] { FaceMesh::build(box); }, "no usable face");
 }
 
-TEST_F(HostileInput, CoordinatesOf1e30)
-{
+TEST_F(HostileInput, CoordinatesOf1e30) {
   // Stray points at 1e30 in a cluster are left out (beyond kMaxPointCoordinate): the pose
   // is right. Stray points at 1e5, within it, are outliers like any other.
   for (const float far : {1e30f, 1e5f}) {
@@ -433,8 +407,8 @@ TEST_F(HostileInput, CoordinatesOf1e30)
   // A mesh whose faces are 1e30 wide: their areas overflow float, a clear error.
   expectError<InvalidMeshError>(
       [] {
-        FaceMesh::build(meshOf({{0, 0, 0}, {1e30f, 0, 0}, {0, 1e30f, 0}, {1e30f, 1e30f, 0}},
-                               {{0, 1, 3, 2}}));
+        FaceMesh::build(
+            meshOf({{0, 0, 0}, {1e30f, 0, 0}, {0, 1e30f, 0}, {1e30f, 1e30f, 0}}, {{0, 1, 3, 2}}));
       },
       "no usable face");
   // A model beside one vertex at 1e30 (unreferenced): the model is what the faces span.
@@ -466,16 +440,14 @@ TEST_F(HostileInput, CoordinatesOf1e30)
         scene.poses[0], box5.symmetry);
     EXPECT_LE(e.translation, 0.005);
     EXPECT_LE(e.rotation_deg, 3.0);
-  }
-  else {
+  } else {
     EXPECT_EQ(found.status, LocalizationStatus::BadScene);
     EXPECT_NE(found.message.find("bounding box diagonal is inf"), std::string::npos)
         << found.message;
   }
 }
 
-TEST_F(HostileInput, ASinglePoint)
-{
+TEST_F(HostileInput, ASinglePoint) {
   const auto cloud = loadSceneCloud(write("one.xyz", "0.1 0.2 0.9\n"));
   ASSERT_EQ(cloud->size(), 1u);
   const IcfResult r = estimate(boxModel(), {cloud->front().getVector3fMap()});
@@ -486,8 +458,7 @@ TEST_F(HostileInput, ASinglePoint)
   EXPECT_NE(found.message.find("TooFewPoints"), std::string::npos) << found.message;
 }
 
-TEST_F(HostileInput, DuplicatePoints)
-{
+TEST_F(HostileInput, DuplicatePoints) {
   // Every point five times: the same object, the same answer.
   View v = boxView();
   std::vector<Eigen::Vector3f> five;
@@ -500,8 +471,7 @@ TEST_F(HostileInput, DuplicatePoints)
   EXPECT_TRUE(r.object_pose.allFinite());
 }
 
-TEST_F(HostileInput, FlatCluster)
-{
+TEST_F(HostileInput, FlatCluster) {
   // A 40 x 40 cm patch of a wall at 0.8 m, seen face on: larger than any face of the box, so
   // a box cannot explain it; the localizer (cluster as given) must not report it.
   pcl::PointCloud<pcl::PointXYZ> wall;
@@ -516,8 +486,7 @@ TEST_F(HostileInput, FlatCluster)
   EXPECT_FALSE(found.clusters[0].reason.empty());
 }
 
-TEST_F(HostileInput, AMeshOfOneFace)
-{
+TEST_F(HostileInput, AMeshOfOneFace) {
   // One triangle, 10 cm: it builds, and its own view is found with the points on the face.
   const pcl::PolygonMesh tri = meshOf({{0, 0, 0}, {0.1f, 0, 0}, {0, 0.07f, 0}}, {{0, 1, 2}});
   const FaceMesh faces = FaceMesh::build(tri);
@@ -542,8 +511,7 @@ TEST_F(HostileInput, AMeshOfOneFace)
   }
 }
 
-TEST_F(HostileInput, AMeshOfAMillionFaces)
-{
+TEST_F(HostileInput, AMeshOfAMillionFaces) {
   // A 1000 x 500 grid of quads split into triangles, on a gentle wave: 1,000,000 faces (200,000
   // under the sanitizers, which are 10x slower). The faces, the exact index and a few queries
   // against brute force.
@@ -577,21 +545,25 @@ TEST_F(HostileInput, AMeshOfAMillionFaces)
   }
 }
 
-TEST_F(HostileInput, NonManifoldMeshAndFlippedNormals)
-{
+TEST_F(HostileInput, NonManifoldMeshAndFlippedNormals) {
   // Three triangles on one edge (a "book"), a dangling triangle touching it at a vertex, an
   // unused vertex: it builds, and the index agrees with brute force.
-  const pcl::PolygonMesh book = meshOf(
-      {{0, 0, 0}, {0, 0, 0.1f}, {0.1f, 0, 0}, {-0.1f, 0, 0}, {0, 0.1f, 0}, {0.1f, 0.1f, 0.1f},
-       {0.2f, 0.2f, 0.2f}, {5, 5, 5}},
-      {{0, 1, 2}, {0, 1, 3}, {0, 1, 4}, {1, 5, 6}});
+  const pcl::PolygonMesh book = meshOf({{0, 0, 0},
+                                        {0, 0, 0.1f},
+                                        {0.1f, 0, 0},
+                                        {-0.1f, 0, 0},
+                                        {0, 0.1f, 0},
+                                        {0.1f, 0.1f, 0.1f},
+                                        {0.2f, 0.2f, 0.2f},
+                                        {5, 5, 5}},
+                                       {{0, 1, 2}, {0, 1, 3}, {0, 1, 4}, {1, 5, 6}});
   const FaceMesh faces = FaceMesh::build(book);
   EXPECT_EQ(faces.size(), 4u);
   const pcl::icf::EmbreeClosestFaceIndex index(faces);
   const pcl::icf::BruteForceClosestFace brute(faces);
-  for (const Eigen::Vector3f& p : {Eigen::Vector3f(0.05f, 0.05f, 0.05f),
-                                  Eigen::Vector3f(-0.2f, 0.3f, 0.01f),
-                                  Eigen::Vector3f(0.3f, 0.1f, 0.2f)})
+  for (const Eigen::Vector3f& p :
+       {Eigen::Vector3f(0.05f, 0.05f, 0.05f), Eigen::Vector3f(-0.2f, 0.3f, 0.01f),
+        Eigen::Vector3f(0.3f, 0.1f, 0.2f)})
     EXPECT_NEAR(index.closestFace(p).distance, brute.closestFace(p).distance, 1e-6f);
 
   // Box5 with three of its six faces wound the wrong way (inward normals): the pose of its
@@ -604,8 +576,7 @@ TEST_F(HostileInput, NonManifoldMeshAndFlippedNormals)
   expectCorrectPose(estimate(*model, v.points), v);
 }
 
-TEST_F(HostileInput, MillimetreDataWithMetreParameters)
-{
+TEST_F(HostileInput, MillimetreDataWithMetreParameters) {
   // A table-top scene in millimetres, metre parameters: BadScene, saying why.
   const test::SyntheticModel box = test::thesisModel("Box5");
   test::TabletopScene scene = test::makeTabletopScene(
@@ -629,8 +600,7 @@ TEST_F(HostileInput, MillimetreDataWithMetreParameters)
   expectCorrectPose(estimate(*IcfModel::build(box_mm, scaled), v.points), v);
 }
 
-TEST_F(HostileInput, ASceneWithNoTable)
-{
+TEST_F(HostileInput, ASceneWithNoTable) {
   // Box5 alone in front of the camera, nothing under it: no table, a status that says so; as
   // a given cluster (segment = false) it is found.
   const View v = boxView();
@@ -653,8 +623,7 @@ TEST_F(HostileInput, ASceneWithNoTable)
   EXPECT_LE(e.rotation_deg, 3.0);
 }
 
-TEST_F(HostileInput, DoublePrecisionAndOutOfRangeMeshFiles)
-{
+TEST_F(HostileInput, DoublePrecisionAndOutOfRangeMeshFiles) {
   // Vertices as doubles (MeshLab can write them): the same cube as with floats.
   const std::string cube =
       "element vertex 8\nproperty double x\nproperty double y\nproperty double z\n"
@@ -666,28 +635,29 @@ TEST_F(HostileInput, DoublePrecisionAndOutOfRangeMeshFiles)
   EXPECT_NEAR(mesh.totalArea(), 6.0, 1e-6);
   // A list property inside the vertex element, of varying length (pcl::PLYReader asserted on
   // this): read past, the points are right.
-  const auto listed = loadSceneCloud(write("l.ply", "ply\nformat ascii 1.0\nelement vertex 2\n"
-                                                    "property float x\nproperty list uchar "
-                                                    "float extra\nproperty float y\nproperty "
-                                                    "float z\nend_header\n1 0 2 3\n4 3 7 "
-                                                    "8 9 5 6\n"));
+  const auto listed = loadSceneCloud(write("l.ply",
+                                           "ply\nformat ascii 1.0\nelement vertex 2\n"
+                                           "property float x\nproperty list uchar "
+                                           "float extra\nproperty float y\nproperty "
+                                           "float z\nend_header\n1 0 2 3\n4 3 7 "
+                                           "8 9 5 6\n"));
   ASSERT_EQ(listed->size(), 2u);
   EXPECT_EQ((*listed)[1].getVector3fMap(), Eigen::Vector3f(4, 5, 6));
   // A face index past the vertices: a FileError naming the face and the vertex.
   expectError<FileError>(
       [&] {
-        loadPolygonMesh(write("o.ply", "ply\nformat ascii 1.0\nelement vertex 3\n"
-                                       "property float x\nproperty float y\nproperty float z\n"
-                                       "element face 1\nproperty list uchar int vertex_indices\n"
-                                       "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"));
+        loadPolygonMesh(write("o.ply",
+                              "ply\nformat ascii 1.0\nelement vertex 3\n"
+                              "property float x\nproperty float y\nproperty float z\n"
+                              "element face 1\nproperty list uchar int vertex_indices\n"
+                              "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"));
       },
       "face 0 refers to vertex 7, but the file has 3 vertices");
   expectError<FileError>(
       [&] { loadPolygonMesh(write("o.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")); },
       "face refers to vertex 9, but the file has 3 vertices");
-  expectError<FileError>(
-      [&] { loadPolygonMesh(write("n.obj", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\n")); },
-      "refers before the first vertex");
+  expectError<FileError>([&] { loadPolygonMesh(write("n.obj", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\n")); },
+                         "refers before the first vertex");
 }
 
 }  // namespace

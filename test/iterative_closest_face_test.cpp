@@ -27,9 +27,7 @@ struct Trial {
 
 /** A random pose in front of the camera (0.7 - 1.1 m) and its noisy view: noise 1.5 mm at
  * 1 m growing with depth^2, 5% outliers within +-5 cm along the ray. */
-Trial
-makeTrial(const SyntheticModel& model, std::uint64_t seed)
-{
+Trial makeTrial(const SyntheticModel& model, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   Trial t;
   do {
@@ -41,9 +39,7 @@ makeTrial(const SyntheticModel& model, std::uint64_t seed)
   return t;
 }
 
-Eigen::Isometry3d
-toIsometry(const Eigen::Matrix4f& m)
-{
+Eigen::Isometry3d toIsometry(const Eigen::Matrix4f& m) {
   return Eigen::Isometry3d(m.cast<double>());
 }
 
@@ -51,8 +47,7 @@ class ThesisModels : public ::testing::TestWithParam<std::string> {};
 
 // Tolerances: 5 mm and 3 degrees are the bar, about 3x the sensor's noise at 1 m;
 // 95% of 50 trials allows 2 failures.
-TEST_P(ThesisModels, FastStrategyFindsThePoseWithoutAGuess)
-{
+TEST_P(ThesisModels, FastStrategyFindsThePoseWithoutAGuess) {
   const SyntheticModel model = pcl::icf::test::thesisModel(GetParam());
   pcl::IterativeClosestFace<pcl::PointXYZ> icf;
   icf.setInputTarget(pcl::make_shared<pcl::PolygonMesh>(model.mesh));
@@ -92,14 +87,11 @@ INSTANTIATE_TEST_SUITE_P(IterativeClosestFace, ThesisModels,
 
 namespace {
 
-pcl::PolygonMesh::ConstPtr
-meshOf(const std::string& name)
-{
+pcl::PolygonMesh::ConstPtr meshOf(const std::string& name) {
   return pcl::make_shared<pcl::PolygonMesh>(pcl::icf::test::thesisModel(name).mesh);
 }
 
-TEST(IterativeClosestFace, WorksThroughARegistrationPointerBesideIcp)
-{
+TEST(IterativeClosestFace, WorksThroughARegistrationPointerBesideIcp) {
   const SyntheticModel model = pcl::icf::test::thesisModel("Amicelly");
   const Trial t = makeTrial(model, 7);
   auto icf = pcl::make_shared<pcl::IterativeClosestFace<pcl::PointXYZ>>();
@@ -107,8 +99,7 @@ TEST(IterativeClosestFace, WorksThroughARegistrationPointerBesideIcp)
   int callbacks = 0;
   std::function<pcl::Registration<pcl::PointXYZ, pcl::PointXYZ>::UpdateVisualizerCallbackSignature>
       callback = [&callbacks](const pcl::PointCloud<pcl::PointXYZ>&, const pcl::Indices&,
-                              const pcl::PointCloud<pcl::PointXYZ>& target,
-                              const pcl::Indices&) {
+                              const pcl::PointCloud<pcl::PointXYZ>& target, const pcl::Indices&) {
         EXPECT_FALSE(target.empty());
         ++callbacks;
       };
@@ -125,8 +116,8 @@ TEST(IterativeClosestFace, WorksThroughARegistrationPointerBesideIcp)
   // getFinalTransformation maps the scene into the model frame; getObjectPose is its inverse.
   const Eigen::Matrix4f T = registration->getFinalTransformation();
   EXPECT_TRUE((T * icf->getObjectPose()).isIdentity(1e-4f));
-  const auto error = pcl::icf::test::poseError(toIsometry(icf->getObjectPose()), t.truth,
-                                               model.symmetry);
+  const auto error =
+      pcl::icf::test::poseError(toIsometry(icf->getObjectPose()), t.truth, model.symmetry);
   EXPECT_LE(error.translation, 0.005);
   EXPECT_LE(error.rotation_deg, 3.0);
   // The aligned cloud is the source in the model frame: it lies on the model surface.
@@ -141,8 +132,7 @@ TEST(IterativeClosestFace, WorksThroughARegistrationPointerBesideIcp)
   EXPECT_LT(registration->getFitnessScore(0.01), 1e-4);
 }
 
-TEST(IterativeClosestFace, GuessRefinesLocallyAndIdentityMeansSearch)
-{
+TEST(IterativeClosestFace, GuessRefinesLocallyAndIdentityMeansSearch) {
   const SyntheticModel model = pcl::icf::test::thesisModel("Box5");
   const Trial t = makeTrial(model, 11);
   pcl::IterativeClosestFace<pcl::PointXYZ> icf;
@@ -162,8 +152,7 @@ TEST(IterativeClosestFace, GuessRefinesLocallyAndIdentityMeansSearch)
   EXPECT_EQ(icf.getResult().method, "fast+icf");
 }
 
-TEST(IterativeClosestFace, SameSeedSameResultForAnyThreadCount)
-{
+TEST(IterativeClosestFace, SameSeedSameResultForAnyThreadCount) {
   const Trial t = makeTrial(pcl::icf::test::thesisModel("YellowRoundSalt"), 3);
   Eigen::Matrix4f poses[2];
   for (int threads : {1, 2}) {
@@ -179,8 +168,7 @@ TEST(IterativeClosestFace, SameSeedSameResultForAnyThreadCount)
   EXPECT_EQ(poses[0], poses[1]);
 }
 
-TEST(IterativeClosestFace, ThesisStrategyOnAReducedBudget)
-{
+TEST(IterativeClosestFace, ThesisStrategyOnAReducedBudget) {
   // The thesis's search with 5 x 20 x 20 instead of 50 x 100 x 20 evaluations, then refined:
   // it must return a finite pose, spend its budget deterministically and, on this easy view
   // of the box, end within the thesis's own accuracy (12-23 mm mean error, chapter 7).
@@ -206,8 +194,7 @@ TEST(IterativeClosestFace, ThesisStrategyOnAReducedBudget)
   EXPECT_LE(error.translation, 0.023);
 }
 
-TEST(IterativeClosestFace, ClusterHoldingAnotherObjectStillFindsTheTarget)
-{
+TEST(IterativeClosestFace, ClusterHoldingAnotherObjectStillFindsTheTarget) {
   // The salt cylinder's view merged with a box's view 3 cm beside it: points far from the
   // model add nothing, and acceptance judges how much of the model's visible surface is
   // explained, so the merged cluster is accepted with the right pose.
@@ -236,8 +223,7 @@ TEST(IterativeClosestFace, ClusterHoldingAnotherObjectStillFindsTheTarget)
   EXPECT_LT(icf.getResult().quality.inlier_ratio, 0.8);  // the box's points are not inliers
 }
 
-TEST(IterativeClosestFace, WrongModelLeavesTheClusterUnexplained)
-{
+TEST(IterativeClosestFace, WrongModelLeavesTheClusterUnexplained) {
   // A cluster of the box registered against the coffee cylinder. The default acceptance judges
   // the model's visible surface (a cylinder's cap can lie on the box's face), so for a cluster
   // known to hold one object the thesis's gate is what rejects: far more than 5 points lie
@@ -257,8 +243,7 @@ TEST(IterativeClosestFace, WrongModelLeavesTheClusterUnexplained)
   EXPECT_LT(icf.getResult().quality.inlier_ratio, 0.8);
 }
 
-TEST(IterativeClosestFace, ThesisGateAcceptsTheRightModelOnASingleObjectCluster)
-{
+TEST(IterativeClosestFace, ThesisGateAcceptsTheRightModelOnASingleObjectCluster) {
   const SyntheticModel model = pcl::icf::test::thesisModel("Box5");
   const Trial t = makeTrial(model, 5);
   pcl::IterativeClosestFace<pcl::PointXYZ> icf;
@@ -275,8 +260,7 @@ TEST(IterativeClosestFace, ThesisGateAcceptsTheRightModelOnASingleObjectCluster)
   EXPECT_TRUE(icf.hasConverged()) << icf.getResult().quality.far_points << " far points";
 }
 
-TEST(IterativeClosestFace, OrganizedCloudWithNaNsAndColourTypes)
-{
+TEST(IterativeClosestFace, OrganizedCloudWithNaNsAndColourTypes) {
   const SyntheticModel model = pcl::icf::test::thesisModel("Box5");
   std::mt19937_64 rng(8);
   pcl::icf::test::SceneObject object;
@@ -299,8 +283,7 @@ TEST(IterativeClosestFace, OrganizedCloudWithNaNsAndColourTypes)
   EXPECT_LE(error.rotation_deg, 3.0);
 }
 
-TEST(IterativeClosestFace, BadInputGivesAClearStatusOrException)
-{
+TEST(IterativeClosestFace, BadInputGivesAClearStatusOrException) {
   pcl::IterativeClosestFace<pcl::PointXYZ> icf;
   pcl::PointCloud<pcl::PointXYZ> aligned;
   // No mesh: PCL's initCompute refuses (target empty); our status says why.
@@ -341,8 +324,7 @@ TEST(IterativeClosestFace, BadInputGivesAClearStatusOrException)
   try {
     icf.align(aligned);
     FAIL() << "rotations = 0 must be refused";
-  }
-  catch (const std::invalid_argument& e) {
+  } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("rotations"), std::string::npos) << e.what();
   }
   params = {};
@@ -352,8 +334,7 @@ TEST(IterativeClosestFace, BadInputGivesAClearStatusOrException)
   EXPECT_THROW(icf.setNumberOfThreads(-3), std::invalid_argument);
 }
 
-TEST(IcfParams, DocumentedDefaultsAreTheRealDefaults)
-{
+TEST(IcfParams, DocumentedDefaultsAreTheRealDefaults) {
   const pcl::icf::IcfParams p;
   // The thesis's values (section 4.2.1, 4.3.2, 6.2) in metres.
   EXPECT_FLOAT_EQ(p.objective.near_distance, 0.030f);
@@ -373,13 +354,12 @@ TEST(IcfParams, DocumentedDefaultsAreTheRealDefaults)
   EXPECT_NO_THROW(p.validate());
 }
 
-TEST(ThesisObjective, MatchesSection421)
-{
+TEST(ThesisObjective, MatchesSection421) {
   const pcl::icf::ThesisObjectiveParams p;
   EXPECT_FLOAT_EQ(pcl::icf::thesisPointScore(0.f, p), 1.f);
-  EXPECT_FLOAT_EQ(pcl::icf::thesisPointScore(0.020f, p), 1.f - 0.020f / 0.2f);   // g = d
-  EXPECT_FLOAT_EQ(pcl::icf::thesisPointScore(0.040f, p), 1.f - 0.160f / 0.2f);   // g = 4 d
-  EXPECT_FLOAT_EQ(pcl::icf::thesisPointScore(0.050f, p), 0.f);                   // g = m
+  EXPECT_FLOAT_EQ(pcl::icf::thesisPointScore(0.020f, p), 1.f - 0.020f / 0.2f);  // g = d
+  EXPECT_FLOAT_EQ(pcl::icf::thesisPointScore(0.040f, p), 1.f - 0.160f / 0.2f);  // g = 4 d
+  EXPECT_FLOAT_EQ(pcl::icf::thesisPointScore(0.050f, p), 0.f);                  // g = m
   EXPECT_FLOAT_EQ(pcl::icf::thesisPointScore(0.150f, p), 0.f);
   // Early exit: 501 far points make F = 0 however good the rest is.
   std::vector<Eigen::Vector3f> points(1000, Eigen::Vector3f::Zero());

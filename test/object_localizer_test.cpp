@@ -30,9 +30,7 @@ struct Scenario {
 };
 
 /** Label (1-based object index) most of the cluster's points carry in the rendered scan. */
-int
-majorityLabel(const std::vector<int>& labels, const pcl::PointIndices& cluster)
-{
+int majorityLabel(const std::vector<int>& labels, const pcl::PointIndices& cluster) {
   std::map<int, int> votes;
   for (const auto i : cluster.indices)
     ++votes[labels[static_cast<std::size_t>(i)]];
@@ -45,9 +43,7 @@ majorityLabel(const std::vector<int>& labels, const pcl::PointIndices& cluster)
   return best;
 }
 
-test::SyntheticModel
-scenarioModel(const std::string& name)
-{
+test::SyntheticModel scenarioModel(const std::string& name) {
   if (name == "BigBox")
     return {"BigBox", test::makeBox(0.22, 0.15, 0.09), test::Symmetry::box(0.22, 0.15, 0.09),
             Eigen::Vector3f(0.2f, 0.6f, 0.2f)};
@@ -58,8 +54,7 @@ class ThesisScenarios : public ::testing::TestWithParam<Scenario> {};
 
 // Tolerances: the target stands upright, seen from 0.6 m at 45 degrees with the Kinect-like
 // noise; 5 mm and 3 degrees as for single clusters.
-TEST_P(ThesisScenarios, FindsTheTargetInTheRightClusterAtTheRightPose)
-{
+TEST_P(ThesisScenarios, FindsTheTargetInTheRightClusterAtTheRightPose) {
   const Scenario& s = GetParam();
   std::vector<test::SyntheticModel> models;
   for (const auto& name : s.objects)
@@ -81,10 +76,9 @@ TEST_P(ThesisScenarios, FindsTheTargetInTheRightClusterAtTheRightPose)
     std::cout << s.name << " cluster " << k << " (label "
               << majorityLabel(scene.scan.labels, c.indices) << ", " << c.indices.indices.size()
               << " points): score " << c.score << ", coverage " << c.icf.quality.surface_coverage
-              << ", inliers " << c.icf.quality.inlier_ratio << ", rmse "
-              << 1e3 * c.icf.quality.rmse << " mm, free space "
-              << c.free_space_violation << ", continuation " << c.boundary_continuation
-              << ", gate " << c.gate_far_points
+              << ", inliers " << c.icf.quality.inlier_ratio << ", rmse " << 1e3 * c.icf.quality.rmse
+              << " mm, free space " << c.free_space_violation << ", continuation "
+              << c.boundary_continuation << ", gate " << c.gate_far_points
               << (c.colour_similarity ? ", colour " + std::to_string(*c.colour_similarity) : "")
               << (c.accepted ? " ACCEPTED" : " rejected: " + c.reason) << "\n";
   }
@@ -101,19 +95,24 @@ TEST_P(ThesisScenarios, FindsTheTargetInTheRightClusterAtTheRightPose)
 INSTANTIATE_TEST_SUITE_P(
     Localizer, ThesisScenarios,
     ::testing::Values(
-        Scenario{"S1_box_cup_statue", {"Box5", "Cup", "Statue"},
+        Scenario{"S1_box_cup_statue",
+                 {"Box5", "Cup", "Statue"},
                  {{0.0, 0.0, 0.4}, {-0.2, 0.05, 0.0}, {0.2, -0.03, 0.7}}},
-        Scenario{"S2_small_box_big_box", {"Box5", "BigBox"}, {{-0.12, 0.0, 0.3}, {0.14, 0.02, -0.2}}},
+        Scenario{
+            "S2_small_box_big_box", {"Box5", "BigBox"}, {{-0.12, 0.0, 0.3}, {0.14, 0.02, -0.2}}},
         Scenario{"S3_salt_box", {"YellowRoundSalt", "Box5"}, {{-0.1, 0.0, 0.0}, {0.12, 0.0, 0.5}}},
-        Scenario{"S4_salt_cup_box", {"YellowRoundSalt", "Cup", "Box5"},
+        Scenario{"S4_salt_cup_box",
+                 {"YellowRoundSalt", "Cup", "Box5"},
                  {{0.0, 0.0, 0.0}, {-0.17, 0.0, 0.0}, {0.18, 0.03, 1.0}}},
-        Scenario{"S5_hexprism_cylinder", {"Amicelly", "EisKaffe"}, {{-0.1, 0.0, 0.3}, {0.1, 0.0, 0.0}}},
-        Scenario{"S6_cylinder_hexprism_colour", {"EisKaffe", "Amicelly"},
-                 {{0.1, 0.0, 0.0}, {-0.1, 0.0, 0.3}}, true}),
+        Scenario{
+            "S5_hexprism_cylinder", {"Amicelly", "EisKaffe"}, {{-0.1, 0.0, 0.3}, {0.1, 0.0, 0.0}}},
+        Scenario{"S6_cylinder_hexprism_colour",
+                 {"EisKaffe", "Amicelly"},
+                 {{0.1, 0.0, 0.0}, {-0.1, 0.0, 0.3}},
+                 true}),
     [](const auto& info) { return info.param.name; });
 
-TEST(Localizer, BadScenesGiveAStatus)
-{
+TEST(Localizer, BadScenesGiveAStatus) {
   const IcfModel::ConstPtr model = IcfModel::build(test::thesisModel("Box5").mesh);
   pcl::PointCloud<pcl::PointXYZ> empty;
   EXPECT_EQ(segmentation::localizeObject(empty, *model).status, LocalizationStatus::BadScene);
@@ -134,9 +133,7 @@ TEST(Localizer, BadScenesGiveAStatus)
 // Real data: one YCB-Video frame with ground truth; the four objects on its table touch, so
 // one cluster holds them all. The bar: within 1 cm of the ground-truth pose, ADD-S under 10% of
 // the object's diameter (depth alone cannot tell a box from its 180-degree flip).
-Eigen::Isometry3d
-ycbTruth(const std::string& gt_path, const std::string& key)
-{
+Eigen::Isometry3d ycbTruth(const std::string& gt_path, const std::string& key) {
   std::ifstream in(gt_path);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::size_t at = text.find(key);
@@ -151,8 +148,7 @@ ycbTruth(const std::string& gt_path, const std::string& key)
       m(filled / 4, filled % 4) = std::strtod(p, &end);
       ++filled;
       p = end;
-    }
-    else
+    } else
       ++p;
   }
   return Eigen::Isometry3d(m);
@@ -160,8 +156,7 @@ ycbTruth(const std::string& gt_path, const std::string& key)
 
 class YcbObjects : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(YcbObjects, FoundInTheMergedClusterWithin1cm)
-{
+TEST_P(YcbObjects, FoundInTheMergedClusterWithin1cm) {
   PCL_ICF_REQUIRE_SHARED(scene_path, "ycbv/ycbv_frame000002.pcd");
   PCL_ICF_REQUIRE_SHARED(gt_path, "ycbv/gt.json");
   const std::string object = GetParam();
@@ -173,14 +168,14 @@ TEST_P(YcbObjects, FoundInTheMergedClusterWithin1cm)
   const auto result = segmentation::localizeObject(scene, *model);
   const Eigen::Isometry3d truth = ycbTruth(gt_path, object);
   for (const auto& c : result.clusters)
-    std::cout << object << ": cluster of " << c.indices.indices.size() << " points (parent "
-              << c.parent << "), score " << c.score << ", coverage "
-              << c.icf.quality.surface_coverage << ", inliers " << c.icf.quality.inlier_ratio
-              << ", continuation " << c.boundary_continuation << ", free space "
-              << c.free_space_violation << ", gate " << c.gate_far_points << ", off by "
-              << 1e3 * (c.icf.object_pose.block<3, 1>(0, 3).cast<double>() - truth.translation())
-                           .norm()
-              << " mm, " << (c.accepted ? "ACCEPTED" : "rejected: " + c.reason) << "\n";
+    std::cout
+        << object << ": cluster of " << c.indices.indices.size() << " points (parent " << c.parent
+        << "), score " << c.score << ", coverage " << c.icf.quality.surface_coverage << ", inliers "
+        << c.icf.quality.inlier_ratio << ", continuation " << c.boundary_continuation
+        << ", free space " << c.free_space_violation << ", gate " << c.gate_far_points
+        << ", off by "
+        << 1e3 * (c.icf.object_pose.block<3, 1>(0, 3).cast<double>() - truth.translation()).norm()
+        << " mm, " << (c.accepted ? "ACCEPTED" : "rejected: " + c.reason) << "\n";
   ASSERT_EQ(result.status, LocalizationStatus::Found) << result.message;
   const auto& best = result.clusters[static_cast<std::size_t>(result.best)];
   const Eigen::Isometry3d estimate(best.icf.object_pose.cast<double>());

@@ -3,9 +3,9 @@
 // against an independent reference (plane projection + segment clamping), in float and double.
 #include <pcl/icf/point_face_distance.h>
 
+#include <gtest/gtest.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
-#include <gtest/gtest.h>
 
 #include <random>
 
@@ -18,16 +18,14 @@ using Vec = Eigen::Matrix<Scalar, 3, 1>;
 
 template <typename Scalar>
 class PointFaceDistance : public ::testing::Test {
-protected:
+ protected:
   // Tolerance: a few hundred ulps at unit scale covers the handful of products and
   // divisions on the way (each adds ~1 eps relative).
   static constexpr Scalar kTol = Scalar(256) * std::numeric_limits<Scalar>::epsilon();
   const Vec<Scalar> a{0, 0, 0}, b{1, 0, 0}, c{0, 1, 0};
 
-  void
-  expectTriangle(const Vec<Scalar>& p, const Vec<Scalar>& expected, FaceFeature feature,
-                 int index)
-  {
+  void expectTriangle(const Vec<Scalar>& p, const Vec<Scalar>& expected, FaceFeature feature,
+                      int index) {
     const auto r = pcl::icf::closestPointOnTriangle(p, a, b, c);
     EXPECT_LE((r.point - expected).norm(), kTol) << "p = " << p.transpose();
     EXPECT_NEAR(std::sqrt(r.squared_distance), (p - expected).norm(), kTol);
@@ -39,8 +37,7 @@ protected:
 using ScalarTypes = ::testing::Types<float, double>;
 TYPED_TEST_SUITE(PointFaceDistance, ScalarTypes);
 
-TYPED_TEST(PointFaceDistance, TriangleEveryRegion)
-{
+TYPED_TEST(PointFaceDistance, TriangleEveryRegion) {
   using S = TypeParam;
   using V = Vec<S>;
   this->expectTriangle(V(0.2, 0.2, 0.5), V(0.2, 0.2, 0), FaceFeature::Interior, -1);
@@ -53,8 +50,7 @@ TYPED_TEST(PointFaceDistance, TriangleEveryRegion)
   this->expectTriangle(V(-0.5, 2, -1), V(0, 1, 0), FaceFeature::Vertex, 2);
 }
 
-TYPED_TEST(PointFaceDistance, PointsOnEdgesAndVerticesHaveZeroDistance)
-{
+TYPED_TEST(PointFaceDistance, PointsOnEdgesAndVerticesHaveZeroDistance) {
   using S = TypeParam;
   using V = Vec<S>;
   for (const V& p : {V(0, 0, 0), V(1, 0, 0), V(0, 1, 0), V(0.5, 0, 0), V(0.5, 0.5, 0),
@@ -65,8 +61,7 @@ TYPED_TEST(PointFaceDistance, PointsOnEdgesAndVerticesHaveZeroDistance)
   }
 }
 
-TYPED_TEST(PointFaceDistance, DegenerateTrianglesFallBackToTheirEdges)
-{
+TYPED_TEST(PointFaceDistance, DegenerateTrianglesFallBackToTheirEdges) {
   using S = TypeParam;
   using V = Vec<S>;
   // Collinear: the "triangle" is the segment [0, 2] on x.
@@ -80,8 +75,7 @@ TYPED_TEST(PointFaceDistance, DegenerateTrianglesFallBackToTheirEdges)
 }
 
 // Rectangle A(0,0) B(2,0) C(2,1) D(0,1) at z = 0 and the 9 regions of the thesis's Fig. 4.4.
-TYPED_TEST(PointFaceDistance, RectangleNineRegionsThesisAgreesWithGeneral)
-{
+TYPED_TEST(PointFaceDistance, RectangleNineRegionsThesisAgreesWithGeneral) {
   using S = TypeParam;
   using V = Vec<S>;
   const V corners[4] = {V(0, 0, 0), V(2, 0, 0), V(2, 1, 0), V(0, 1, 0)};
@@ -91,15 +85,15 @@ TYPED_TEST(PointFaceDistance, RectangleNineRegionsThesisAgreesWithGeneral)
     FaceFeature feature;
   };
   const Case cases[] = {
-      {V(1, 0.5, 0.3), V(1, 0.5, 0), FaceFeature::Interior},   // inside
-      {V(1, -1, 0.3), V(1, 0, 0), FaceFeature::Edge},          // below AB
-      {V(3, 0.5, -0.2), V(2, 0.5, 0), FaceFeature::Edge},      // right of BC
-      {V(1, 2, 0.1), V(1, 1, 0), FaceFeature::Edge},           // above CD
-      {V(-1, 0.5, 0), V(0, 0.5, 0), FaceFeature::Edge},        // left of DA
-      {V(-1, -1, 0.5), V(0, 0, 0), FaceFeature::Vertex},       // corner A
-      {V(3, -1, 0.5), V(2, 0, 0), FaceFeature::Vertex},        // corner B
-      {V(3, 2, -0.5), V(2, 1, 0), FaceFeature::Vertex},        // corner C
-      {V(-1, 2, 0.5), V(0, 1, 0), FaceFeature::Vertex},        // corner D
+      {V(1, 0.5, 0.3), V(1, 0.5, 0), FaceFeature::Interior},  // inside
+      {V(1, -1, 0.3), V(1, 0, 0), FaceFeature::Edge},         // below AB
+      {V(3, 0.5, -0.2), V(2, 0.5, 0), FaceFeature::Edge},     // right of BC
+      {V(1, 2, 0.1), V(1, 1, 0), FaceFeature::Edge},          // above CD
+      {V(-1, 0.5, 0), V(0, 0.5, 0), FaceFeature::Edge},       // left of DA
+      {V(-1, -1, 0.5), V(0, 0, 0), FaceFeature::Vertex},      // corner A
+      {V(3, -1, 0.5), V(2, 0, 0), FaceFeature::Vertex},       // corner B
+      {V(3, 2, -0.5), V(2, 1, 0), FaceFeature::Vertex},       // corner C
+      {V(-1, 2, 0.5), V(0, 1, 0), FaceFeature::Vertex},       // corner D
   };
   for (const Case& k : cases) {
     const auto thesis = pcl::icf::closestPointOnRectangleThesis(k.p, corners);
@@ -131,9 +125,7 @@ TYPED_TEST(PointFaceDistance, RectangleNineRegionsThesisAgreesWithGeneral)
 // (solved by a 2x2 linear system) are all non-negative, else the best of the three clamped
 // segment projections.
 template <typename S>
-S
-referenceTriangleDistance(const Vec<S>& p, const Vec<S>& a, const Vec<S>& b, const Vec<S>& c)
-{
+S referenceTriangleDistance(const Vec<S>& p, const Vec<S>& a, const Vec<S>& b, const Vec<S>& c) {
   const Vec<S> e0 = b - a, e1 = c - a, ap = p - a;
   Eigen::Matrix<S, 2, 2> G;
   G << e0.dot(e0), e0.dot(e1), e0.dot(e1), e1.dot(e1);
@@ -147,8 +139,7 @@ referenceTriangleDistance(const Vec<S>& p, const Vec<S>& a, const Vec<S>& b, con
   return std::min({segment(a, b), segment(b, c), segment(c, a)});
 }
 
-TYPED_TEST(PointFaceDistance, RandomPointsAgainstIndependentReference)
-{
+TYPED_TEST(PointFaceDistance, RandomPointsAgainstIndependentReference) {
   using S = TypeParam;
   using V = Vec<S>;
   std::mt19937_64 rng(42);

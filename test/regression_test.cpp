@@ -1,12 +1,17 @@
 // Regression tests for what the fuzzers (fuzz/, issue 7) found: every input that crashed,
 // hung or exhausted memory is kept under test/data/regression/ and must now give a clear error.
-// Also: every seed of the fuzzers' corpora (fuzz/corpus/) is a valid file and loads.
+// Also: every seed of the fuzzers' corpora (fuzz/corpus/) is a valid file and loads, and our
+// readers (which replaced PCL's and VTK's, io/src/file_formats.h) give what PCL's gave on the
+// real files of ../shared/data and the demo.
 #include "test_paths.h"
 
+#include <pcl/conversions.h>
 #include <pcl/icf/face_mesh.h>
 #include <pcl/icf/io/mesh_io.h>
 #include <pcl/icf/io/scene_io.h>
-#include <pcl/conversions.h>
+#include <pcl/io/pcd_io.h>
+#include <pcl/io/ply_io.h>
+#include <pcl/io/vtk_lib_io.h>
 #include <pcl/point_types.h>
 
 #include <gtest/gtest.h>
@@ -30,9 +35,7 @@ struct Finding {
   const char* was;       ///< what it did before the fix
 };
 
-std::ostream&
-operator<<(std::ostream& out, const Finding& f)
-{
+std::ostream& operator<<(std::ostream& out, const Finding& f) {
   return out << f.file;
 }
 
@@ -55,8 +58,7 @@ const Finding kFindings[] = {
 
 class FuzzFinding : public ::testing::TestWithParam<Finding> {};
 
-TEST_P(FuzzFinding, GivesAClearError)
-{
+TEST_P(FuzzFinding, GivesAClearError) {
   const Finding& f = GetParam();
   const std::string path = pcl_icf_test::fixture(std::string("regression/") + f.file);
   ASSERT_TRUE(fs::exists(path)) << path;
@@ -67,12 +69,10 @@ TEST_P(FuzzFinding, GivesAClearError)
       EXPECT_GT(FaceMesh::build(loadPolygonMesh(path)).size(), 0u);
     else
       EXPECT_GT(loadSceneCloud(path)->size(), 0u);
-  }
-  catch (const FileError& e) {
+  } catch (const FileError& e) {
     error = e.what();
     EXPECT_NE(error.find(f.file), std::string::npos) << "names the file: " << error;
-  }
-  catch (const pcl::icf::InvalidMeshError& e) {
+  } catch (const pcl::icf::InvalidMeshError& e) {
     error = e.what();
     invalid_mesh = true;
   }
@@ -85,8 +85,7 @@ TEST_P(FuzzFinding, GivesAClearError)
   EXPECT_NE(error.find(f.fragment), std::string::npos) << error << "\nexpected: " << f.fragment;
 }
 
-TEST(FuzzFinding, TinyAndHugeMeshesKeepUnitNormals)
-{
+TEST(FuzzFinding, TinyAndHugeMeshesKeepUnitNormals) {
   // The same tetrahedron at 1e-20 and 1e17 units: every face kept, unit normals, the area
   // scaling with the square (float cross products underflowed and overflowed before).
   for (const float scale : {1e-20f, 1.f, 1e17f}) {
@@ -121,8 +120,7 @@ INSTANTIATE_TEST_SUITE_P(Regression, FuzzFinding, ::testing::ValuesIn(kFindings)
                            return name;
                          });
 
-TEST(FuzzFinding, EveryFindingIsListed)
-{
+TEST(FuzzFinding, EveryFindingIsListed) {
   std::size_t files = 0;
   for (const auto& entry : fs::directory_iterator(pcl_icf_test::fixture("regression"))) {
     const std::string name = entry.path().filename().string();
@@ -138,14 +136,11 @@ TEST(FuzzFinding, EveryFindingIsListed)
 }
 
 /** fuzz/corpus/<target>/ beside test/. */
-fs::path
-corpus(const std::string& target)
-{
+fs::path corpus(const std::string& target) {
   return fs::path(PCL_ICF_TEST_DATA) / ".." / ".." / "fuzz" / "corpus" / target;
 }
 
-TEST(FuzzSeeds, EverySceneSeedLoads)
-{
+TEST(FuzzSeeds, EverySceneSeedLoads) {
   for (const char* target : {"fuzz_scene_pcd", "fuzz_scene_ply", "fuzz_scene_xyz"}) {
     const fs::path dir = corpus(target);
     ASSERT_TRUE(fs::is_directory(dir)) << dir;
@@ -159,8 +154,7 @@ TEST(FuzzSeeds, EverySceneSeedLoads)
   }
 }
 
-TEST(FuzzSeeds, EveryMeshSeedBuilds)
-{
+TEST(FuzzSeeds, EveryMeshSeedBuilds) {
   for (const char* target : {"fuzz_mesh_ply", "fuzz_mesh_obj", "fuzz_mesh_stl"}) {
     const fs::path dir = corpus(target);
     ASSERT_TRUE(fs::is_directory(dir)) << dir;
@@ -169,6 +163,75 @@ TEST(FuzzSeeds, EveryMeshSeedBuilds)
       const FaceMesh mesh = FaceMesh::build(loadPolygonMesh(entry.path().string()));
       EXPECT_GE(mesh.size(), 6u);
       EXPECT_GT(mesh.totalArea(), 0.0);
+    }
+  }
+}
+
+bool sameFloat(float a, float b) {
+  return a == b || (std::isnan(a) && std::isnan(b));
+}
+
+TEST(ReadersMatchPcl, RealScenes) {
+  std::vector<std::string> files = {
+      (fs::path(PCL_ICF_TEST_DATA) / ".." / ".." / "data" / "demo" / "tabletop_box5.pcd").string(),
+      (fs::path(PCL_ICF_TEST_DATA) / ".." / ".." / "data" / "demo" / "box5_cluster.pcd").string()};
+  for (const char* shared :
+       {"pcl/milk.pcd", "pcl/milk_cartoon_all_small_clorox.pcd",
+        "pcl/table_scene_mug_stereo_textured.pcd", "mosd/test0.pcd", "ycbv/ycbv_frame000002.pcd"})
+    if (!pcl_icf_test::sharedData(shared).empty())
+      files.push_back(pcl_icf_test::sharedData(shared));
+  for (const std::string& file : files) {
+    SCOPED_TRACE(file);
+    pcl::icf::io::SceneFileInfo info;
+    const auto ours = loadSceneCloud(file, &info);
+    pcl::PointCloud<pcl::PointXYZRGBA> pcl_cloud;
+    ASSERT_EQ(pcl::io::loadPCDFile(file, pcl_cloud), 0);
+    ASSERT_EQ(ours->width, pcl_cloud.width);
+    ASSERT_EQ(ours->height, pcl_cloud.height);
+    EXPECT_EQ(ours->sensor_origin_.head<3>(), pcl_cloud.sensor_origin_.head<3>());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < ours->size(); ++i) {
+      const auto& a = (*ours)[i];
+      const auto& b = pcl_cloud[i];
+      differ += !(sameFloat(a.x, b.x) && sameFloat(a.y, b.y) && sameFloat(a.z, b.z)) ||
+                (info.has_colour && (a.r != b.r || a.g != b.g || a.b != b.b));
+    }
+    EXPECT_EQ(differ, 0u);
+  }
+}
+
+TEST(ReadersMatchPcl, RealMeshes) {
+  std::vector<std::string> files = {
+      (fs::path(PCL_ICF_TEST_DATA) / ".." / ".." / "data" / "demo" / "box5.ply").string(),
+      pcl_icf_test::fixture("box_quads.ply"), pcl_icf_test::fixture("box_quads.obj"),
+      pcl_icf_test::fixture("box_triangles.stl")};
+  for (const char* shared :
+       {"pcl/cube.ply", "meshes/bunny.ply", "meshes/parasaurolophus_low_normals2.ply",
+        "ycbv/004_sugar_box_textured.obj", "ycbv/010_potted_meat_can_textured.obj"})
+    if (!pcl_icf_test::sharedData(shared).empty())
+      files.push_back(pcl_icf_test::sharedData(shared));
+  for (const std::string& file : files) {
+    SCOPED_TRACE(file);
+    const pcl::PolygonMesh ours = loadPolygonMesh(file);
+    pcl::PolygonMesh theirs;
+    const bool ply = fs::path(file).extension() == ".ply";
+    ASSERT_GE(ply ? pcl::io::loadPLYFile(file, theirs) : pcl::io::loadPolygonFile(file, theirs), 0);
+    if (ply) {  // the same vertices in the same order, the same polygons
+      ASSERT_EQ(ours.cloud.width * ours.cloud.height, theirs.cloud.width * theirs.cloud.height);
+      ASSERT_EQ(ours.polygons.size(), theirs.polygons.size());
+      for (std::size_t f = 0; f < ours.polygons.size(); ++f)
+        ASSERT_EQ(ours.polygons[f].vertices, theirs.polygons[f].vertices) << "face " << f;
+    }
+    // VTK's OBJ and STL readers number vertices their own way: compare the surfaces.
+    const FaceMesh a = FaceMesh::build(ours);
+    const FaceMesh b = FaceMesh::build(theirs);
+    EXPECT_EQ(a.size() + a.report().duplicate_dropped + a.report().degenerate_dropped,
+              b.size() + b.report().duplicate_dropped + b.report().degenerate_dropped);
+    EXPECT_NEAR(a.totalArea(), b.totalArea(), 1e-6 * b.totalArea());
+    EXPECT_EQ(a.boundsMin(), b.boundsMin());
+    EXPECT_EQ(a.boundsMax(), b.boundsMax());
+    if (ply) {
+      EXPECT_EQ(a.vertices(), b.vertices());
     }
   }
 }

@@ -13,6 +13,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include <fstream>
 #include <memory>
 #include <random>
@@ -87,7 +89,10 @@ TEST(SampleConsensusAlign, RecoversBunnyViewsWithoutRefinement) {
       params.max_iterations = 1000;
     const double max_t = ia ? 0.02 : 0.01, max_r = ia ? 10.0 : 5.0;
     int successes = 0;
-    for (std::uint64_t seed = 300; seed < 310; ++seed) {
+    // Under the sanitizers (PCL_ICF_SANITIZED) 3 views check memory and behaviour; the release
+    // run holds the 8-of-10 bar.
+    const std::uint64_t views = std::getenv("PCL_ICF_SANITIZED") ? 3 : 10;
+    for (std::uint64_t seed = 300; seed < 300 + views; ++seed) {
       const Trial t = makeTrial(*model, seed);
       const auto r =
           pcl::icf::sampleConsensusAlign(*prepared, t.points, Eigen::Vector3f::Zero(), params, 2);
@@ -107,7 +112,7 @@ TEST(SampleConsensusAlign, RecoversBunnyViewsWithoutRefinement) {
                   params.max_correspondence_distance * params.max_correspondence_distance);
       }
     }
-    EXPECT_GE(successes, 8) << pcl::icf::toString(method);
+    EXPECT_GE(successes, views == 10 ? 8 : 2) << pcl::icf::toString(method);
   }
 }
 
@@ -280,6 +285,8 @@ TEST(Fallback, AutoFiresWhenTheSearchFailsAndRecoversThePose) {
 }
 
 TEST(Fallback, AutoRecoversBunnyViewsTheCrippledSearchMisses) {
+  if (std::getenv("PCL_ICF_SANITIZED"))
+    GTEST_SKIP() << "24 bunny registrations take minutes under ASan; the release run covers it";
   const auto model = bunny();
   if (!model)
     GTEST_SKIP() << "no " << PCL_ICF_SHARED_DATA << "/meshes/bunny.ply";

@@ -16,34 +16,31 @@ namespace {
 using namespace pcl::icf;
 using segmentation::LocalizerParams;
 
-std::vector<Eigen::Vector3f>
-boxView(std::uint64_t seed)
-{
+std::vector<Eigen::Vector3f> boxView(std::uint64_t seed) {
   Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
   truth.translate(Eigen::Vector3d(-0.02, 0.03, 0.85));
   truth.rotate(Eigen::AngleAxisd(2.1, Eigen::Vector3d(0.3, 1, 0.5).normalized()));
   test::ScanNoise noise;
   noise.seed = seed;
+  const auto cloud = test::renderCluster(test::makeBox5(), truth, test::CameraIntrinsics(), noise);
   std::vector<Eigen::Vector3f> points;
-  for (const auto& p : *test::renderCluster(test::makeBox5(), truth, test::CameraIntrinsics(),
-                                            noise))
+  for (const auto& p : *cloud)
     points.push_back(p.getVector3fMap());
   return points;
 }
 
-TEST(ThreadDeterminism, LocalizerOnAScene)
-{
+TEST(ThreadDeterminism, LocalizerOnAScene) {
   // The target among two distractors that touch it: merged clusters, convexity segments,
   // clusters judged in parallel.
   const std::vector<test::SyntheticModel> models = {
       test::thesisModel("Box5"), test::thesisModel("Cup"), test::thesisModel("Amicelly")};
   test::ScanNoise noise;
   noise.outlier_ratio = 0.0;
-  const test::TabletopScene scene = test::makeTabletopScene(
-      models,
-      {Eigen::Vector3d(0.0, 0.0, 0.4), Eigen::Vector3d(0.12, 0.02, 0.0),
-       Eigen::Vector3d(-0.15, -0.05, 1.0)},
-      test::CameraIntrinsics(), noise);
+  const test::TabletopScene scene =
+      test::makeTabletopScene(models,
+                              {Eigen::Vector3d(0.0, 0.0, 0.4), Eigen::Vector3d(0.12, 0.02, 0.0),
+                               Eigen::Vector3d(-0.15, -0.05, 1.0)},
+                              test::CameraIntrinsics(), noise);
   const IcfModel::ConstPtr model = IcfModel::build(models.front().mesh);
   std::vector<segmentation::Localization> runs;
   for (int threads : {1, 2, 3}) {
@@ -72,8 +69,7 @@ TEST(ThreadDeterminism, LocalizerOnAScene)
   }
 }
 
-TEST(ThreadDeterminism, ThesisSearchAndSampleConsensusFallback)
-{
+TEST(ThreadDeterminism, ThesisSearchAndSampleConsensusFallback) {
   const IcfModel::ConstPtr model = IcfModel::build(test::makeBox5());
   const std::vector<Eigen::Vector3f> points = boxView(3);
   for (const bool thesis : {true, false}) {
@@ -86,8 +82,7 @@ TEST(ThreadDeterminism, ThesisSearchAndSampleConsensusFallback)
       params.fallback = FallbackPolicy::Off;
       params.thesis.outer_iterations = 4;
       params.thesis.orientation_iterations = 15;
-    }
-    else {
+    } else {
       params.fallback = FallbackPolicy::Always;
       params.sac.max_iterations = 5000;
     }

@@ -14,6 +14,9 @@
 //                          voxel_size, normal_radius, feature_radius, max_iterations,
 //                          correspondence_randomness, similarity_threshold,
 //                          max_correspondence_distance, inlier_fraction, model_samples, seed
+//     --repeat N           run every method N times per case and report the median time
+//                          (the poses are identical: every method is seeded); icf-thesis
+//                          runs once. For small suites on a busy machine.
 //     --no-plots           skip gnuplot
 //
 // Methods (all on the same cluster points, model prepared once per model and not timed):
@@ -621,7 +624,12 @@ void writePlots(
        << "set datafile missing '?'\n";
     const char* what[2] = {"mean", "std"};
     const char* title[2] = {"Mean error", "Standard deviation of the error"};
-    for (int k = 0; k < 2; ++k) {
+    // A standard deviation needs two cases in some group.
+    bool spread = false;
+    for (const auto& g : groups)
+      for (const auto& m : methods)
+        spread = spread || rowsOf(g, m).size() >= 2;
+    for (int k = 0; k < (spread ? 2 : 1); ++k) {
       gp << "set output '" << (dir / (name + "_" + what[k] + ".png")).string() << "'\n"
          << "set multiplot layout 2,1 title '" << title[k] << " per group and method (" << name
          << "; log scale)'\n";
@@ -645,14 +653,14 @@ void writePlots(
     std::fprintf(stderr,
                  "pcl_icf_bench: gnuplot failed (is gnuplot-nox installed?); the "
                  "data and script are in %s\n",
-                 dir.string().c_str());
+                 data_dir.string().c_str());
 }
 
 int usage(const char* program) {
   std::fprintf(stderr,
                "Usage: %s [--out DIR] [--plots DIR] [--name NAME] [--methods A,B]\n"
                "          [--thesis-cases N] [--limit N] [--threads N] [--ia-iterations N]\n"
-               "          [--sac K=V,...] [--no-plots] MANIFEST...\n"
+               "          [--sac K=V,...] [--repeat N] [--no-plots] MANIFEST...\n"
                "Methods: icf-fast icf-thesis icf-fast+sac icf-sac icp-p2p icp-p2plane "
                "sacia+icp prerej+icp\n",
                program);
@@ -707,7 +715,7 @@ int main(int argc, char** argv) {
   fs::path out_dir = "bench_out", plot_dir;
   std::string name;
   std::vector<std::string> methods = kAllMethods, manifests;
-  int thesis_cases = 5, limit = -1, threads = 0, ia_iterations = 1000;
+  int thesis_cases = 5, limit = -1, threads = 0, ia_iterations = 1000, repeat = 1;
   bool plots = true;
   pcl::icf::SacParams sac;
   std::string command_line = "pcl_icf_bench";
@@ -743,7 +751,9 @@ int main(int argc, char** argv) {
       else if (arg == "--sac") {
         for (const auto& kv : splitComma(value()))
           applySacOverride(sac, kv);
-      } else if (arg == "--no-plots")
+      } else if (arg == "--repeat")
+        repeat = std::stoi(value());
+      else if (arg == "--no-plots")
         plots = false;
       else if (arg == "-h" || arg == "--help")
         return usage(argv[0]) - 2;
@@ -756,6 +766,8 @@ int main(int argc, char** argv) {
       throw std::invalid_argument("no manifest given");
     if (threads < 0)
       throw std::invalid_argument("--threads must be >= 0");
+    if (repeat < 1 || repeat > 100)
+      throw std::invalid_argument("--repeat must lie in [1, 100]");
     sac.validate();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "pcl_icf_bench: %s\n", e.what());
@@ -828,19 +840,31 @@ int main(int argc, char** argv) {
           std::fprintf(stderr, "\r\033[K[%zu/%zu] %s (%zu points): %s   %.0f s elapsed", ci + 1,
                        cases.size(), c.name.c_str(), cluster->size(), m.c_str(), elapsed);
         }
-        MethodRun run;
-        if (m.rfind("icf-", 0) == 0) {
-          pcl::icf::IcfParams p = icf_base;
-          p.strategy =
-              m == "icf-thesis" ? pcl::icf::SearchStrategy::Thesis : pcl::icf::SearchStrategy::Fast;
-          p.fallback = m == "icf-fast+sac" ? pcl::icf::FallbackPolicy::Auto
-                       : m == "icf-sac"    ? pcl::icf::FallbackPolicy::Always
-                                           : pcl::icf::FallbackPolicy::Off;
-          run = runIcf(cluster, model, p);
-        } else if (m == "icp-p2p" || m == "icp-p2plane")
-          run = runIcp(cluster, model, m == "icp-p2plane", threads);
-        else
-          run = runSacIcp(cluster, model, m == "sacia+icp" ? ia : prerejective, threads);
+        auto runOnce = [&]() {
+          if (m.rfind("icf-", 0) == 0) {
+            pcl::icf::IcfParams p = icf_base;
+            p.strategy = m == "icf-thesis" ? pcl::icf::SearchStrategy::Thesis
+                                           : pcl::icf::SearchStrategy::Fast;
+            p.fallback = m == "icf-fast+sac" ? pcl::icf::FallbackPolicy::Auto
+                         : m == "icf-sac"    ? pcl::icf::FallbackPolicy::Always
+                                             : pcl::icf::FallbackPolicy::Off;
+            return runIcf(cluster, model, p);
+          }
+          if (m == "icp-p2p" || m == "icp-p2plane")
+            return runIcp(cluster, model, m == "icp-p2plane", threads);
+          return runSacIcp(cluster, model, m == "sacia+icp" ? ia : prerejective, threads);
+        };
+        MethodRun run = runOnce();
+        // Every method is deterministic: repeats only steady the time (their median).
+        std::vector<double> times = {run.ms};
+        for (int r = 1; r < repeat && m != "icf-thesis"; ++r) {
+          const MethodRun again = runOnce();
+          if (!again.object_pose.isApprox(run.object_pose, 1e-5f))
+            std::fprintf(stderr, "pcl_icf_bench: %s on %s gave another pose when repeated\n",
+                         m.c_str(), c.name.c_str());
+          times.push_back(again.ms);
+        }
+        run.ms = median(times);
 
         Row row;
         row.case_name = c.name;
@@ -919,6 +943,8 @@ int main(int argc, char** argv) {
         "preparation excluded";
   if (std::find(methods.begin(), methods.end(), "icf-thesis") != methods.end() && thesis_cases >= 0)
     md << "; icf-thesis on the first " << thesis_cases << " cases of each group only";
+  if (repeat > 1)
+    md << "; each time is the median of " << repeat << " repeats (icf-thesis: one run)";
   md << ".\n\nAll groups:\n\n"
      << formatTable(methods, [&](const std::string& m) { return rowsOf("", m); });
   for (const auto& g : groups)

@@ -16,9 +16,7 @@
 
 namespace {
 
-int
-usage(const char* program)
-{
+int usage(const char* program) {
   std::fprintf(stderr,
                "Usage: %s CLUSTER.pcd MODEL.{ply,obj,stl,vtk} [TRUTH.txt]\n"
                "  CLUSTER  points of one object, metres (NaN points are skipped)\n"
@@ -30,9 +28,7 @@ usage(const char* program)
 
 }  // namespace
 
-int
-main(int argc, char** argv)
-{
+int main(int argc, char** argv) {
   if (argc < 3 || argc > 4)
     return usage(argv[0]);
   try {
@@ -50,14 +46,14 @@ main(int argc, char** argv)
     const pcl::icf::IcfResult& r = icf.getResult();
     const Eigen::Matrix4f pose = icf.getObjectPose();
     const Eigen::Quaternionf q(pose.topLeftCorner<3, 3>());
-    std::printf("scene %s (%zu finite points), model %s (%zu faces)\n", argv[1], r.points,
-                argv[2], icf.getModel()->mesh().size());
+    std::printf("scene %s (%zu finite points), model %s (%zu faces)\n", argv[1], r.points, argv[2],
+                icf.getModel()->mesh().size());
     std::printf("status %s via %s in %.1f ms; coverage %.2f, inliers %.2f, rmse %.2f mm\n",
                 pcl::icf::toString(r.status).c_str(), r.method.c_str(), r.time_ms,
                 r.quality.surface_coverage, r.quality.inlier_ratio, 1e3 * r.quality.rmse);
     std::cout << "model pose in the scene (model -> scene, metres):\n" << pose << "\n";
-    std::printf("quaternion wxyz %.5f %.5f %.5f %.5f, translation %.4f %.4f %.4f m\n", q.w(),
-                q.x(), q.y(), q.z(), pose(0, 3), pose(1, 3), pose(2, 3));
+    std::printf("quaternion wxyz %.5f %.5f %.5f %.5f, translation %.4f %.4f %.4f m\n", q.w(), q.x(),
+                q.y(), q.z(), pose(0, 3), pose(1, 3), pose(2, 3));
     if (argc == 4) {
       std::ifstream in(argv[3]);
       Eigen::Matrix4f truth;
@@ -74,14 +70,14 @@ main(int argc, char** argv)
             Eigen::Matrix3f(Eigen::AngleAxisf(float(M_PI), Eigen::Vector3f::UnitZ()))})
         angle = std::min(angle, Eigen::AngleAxisf(truth.topLeftCorner<3, 3>().transpose() *
                                                   pose.topLeftCorner<3, 3>() * S)
-                                        .angle() * 180.f / float(M_PI));
+                                        .angle() *
+                                    180.f / float(M_PI));
       std::printf("against the ground truth: %.2f mm, %.2f degrees (box symmetry)\n", 1e3f * dt,
                   angle);
       return r.accepted() && dt <= 0.005f && angle <= 3.f ? 0 : 1;
     }
     return r.accepted() ? 0 : 1;
-  }
-  catch (const std::exception& e) {
+  } catch (const std::exception& e) {
     std::fprintf(stderr, "pcl_icf_demo: %s\n", e.what());
     return 2;
   }

@@ -1,10 +1,9 @@
 // Builds a one-triangle mesh and asks the installed library for a closest face.
-#include <pcl/icf/closest_face_query.h>
 #include <pcl/conversions.h>
+#include <pcl/icf/closest_face_query.h>
 #include <pcl/point_types.h>
 #include <iostream>
-int main()
-{
+int main() {
   pcl::PointCloud<pcl::PointXYZ> v;
   v.push_back({0, 0, 0}), v.push_back({1, 0, 0}), v.push_back({0, 1, 0});
   pcl::PolygonMesh mesh;

@@ -50,23 +50,20 @@ struct PlyContents {
  * \param max_vertices a vertex count above this fails before anything is allocated
  * \throws FileError for a missing magic, a malformed header, an element count the file is too
  * short to hold, a non-number, truncated data or a face index out of range */
-PlyContents
-readPlyFile(const std::string& path, bool read_faces, std::uint64_t max_vertices);
+PlyContents readPlyFile(const std::string& path, bool read_faces, std::uint64_t max_vertices);
 
 /** Reads a Wavefront OBJ file: "v x y z [w | r g b]" vertices and "f" polygons (v, v/t, v//n,
  * v/t/n, negative indices relative to the vertices read so far); texture coordinates,
  * normals, lines, points, groups, materials and unknown statements are ignored.
  * \throws FileError naming the line for a malformed vertex or face, or a face index out of
  * range */
-pcl::PolygonMesh
-readObjFile(const std::string& path);
+pcl::PolygonMesh readObjFile(const std::string& path);
 
 /** Reads an STL file, binary (84-byte header, 50 bytes per triangle: chosen when the size
  * matches the triangle count, or when the file does not start with "solid") or ascii.
  * Identical vertices are merged. \throws FileError for a file shorter than its triangle count
  * says, a malformed ascii line, or ascii data that ends inside a facet */
-pcl::PolygonMesh
-readStlFile(const std::string& path);
+pcl::PolygonMesh readStlFile(const std::string& path);
 
 /** Reads a PCD file (ascii, binary or binary_compressed) into a PCLPointCloud2, as PCL's
  * reader would, with a strict header: printable ASCII lines; FIELDS, SIZE, TYPE [, COUNT] with
@@ -78,9 +75,8 @@ readStlFile(const std::string& path);
  * the DATA line: binary data that looks like a header line is parsed as one.)
  * \param[out] origin, orientation the VIEWPOINT (identity without one), unchecked
  * \throws FileError naming the file and the first problem */
-void
-readPcdFile(const std::string& path, std::uint64_t max_points, pcl::PCLPointCloud2& cloud,
-            Eigen::Vector4f& origin, Eigen::Quaternionf& orientation);
+void readPcdFile(const std::string& path, std::uint64_t max_points, pcl::PCLPointCloud2& cloud,
+                 Eigen::Vector4f& origin, Eigen::Quaternionf& orientation);
 
 }  // namespace detail
 }  // namespace io

@@ -18,9 +18,7 @@ namespace pcl {
 namespace icf {
 namespace io {
 
-std::string
-fileExtension(const std::string& path)
-{
+std::string fileExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   if (!ext.empty() && ext[0] == '.')
     ext.erase(0, 1);
@@ -29,9 +27,7 @@ fileExtension(const std::string& path)
   return ext;
 }
 
-void
-requireReadableFile(const std::string& path)
-{
+void requireReadableFile(const std::string& path) {
   std::error_code ec;
   const auto status = std::filesystem::status(path, ec);
   if (ec || !std::filesystem::exists(status))
@@ -45,9 +41,7 @@ requireReadableFile(const std::string& path)
     throw FileError(path + ": cannot be opened for reading");
 }
 
-pcl::PolygonMesh
-loadPolygonMesh(const std::string& path)
-{
+pcl::PolygonMesh loadPolygonMesh(const std::string& path) {
   requireReadableFile(path);
   const std::string ext = fileExtension(path);
   pcl::PolygonMesh mesh;
@@ -60,16 +54,13 @@ loadPolygonMesh(const std::string& path)
     mesh.cloud = std::move(ply.vertices);
     mesh.polygons = std::move(ply.polygons);
     result = 0;
-  }
-  else if (ext == "obj") {
+  } else if (ext == "obj") {
     mesh = detail::readObjFile(path);
     result = 0;
-  }
-  else if (ext == "stl") {
+  } else if (ext == "stl") {
     mesh = detail::readStlFile(path);
     result = 0;
-  }
-  else if (ext == "vtk")
+  } else if (ext == "vtk")
     result = pcl::io::loadPolygonFileVTK(path, mesh);
   else
     throw FileError(path + ": unknown mesh extension '." + ext +
@@ -79,8 +70,8 @@ loadPolygonMesh(const std::string& path)
   if (mesh.cloud.width * mesh.cloud.height == 0 || mesh.cloud.data.empty())
     throw FileError(path + ": no vertices could be read (malformed, truncated or empty ." + ext +
                     " file)");
-  const std::size_t expected = static_cast<std::size_t>(mesh.cloud.width) * mesh.cloud.height *
-                               mesh.cloud.point_step;
+  const std::size_t expected =
+      static_cast<std::size_t>(mesh.cloud.width) * mesh.cloud.height * mesh.cloud.point_step;
   if (mesh.cloud.data.size() < expected)
     throw FileError(path + ": vertex data shorter than its header claims (truncated file)");
   return mesh;

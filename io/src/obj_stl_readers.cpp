@@ -10,8 +10,8 @@
 #include <pcl/point_types.h>
 
 #include <algorithm>
-#include <cmath>
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <unordered_map>
@@ -22,9 +22,7 @@ namespace io {
 namespace detail {
 namespace {
 
-std::string
-readWholeFile(const std::string& path)
-{
+std::string readWholeFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (!in.eof() && in.fail())
@@ -32,9 +30,7 @@ readWholeFile(const std::string& path)
   return data;
 }
 
-std::string
-printable(const std::string& token)
-{
+std::string printable(const std::string& token) {
   std::string out;
   for (const char c : token.substr(0, 32))
     out += (c >= 32 && c < 127) ? c : '?';
@@ -47,9 +43,7 @@ using Token = std::pair<const char*, const char*>;
 
 /** The words of one line (split at spaces and tabs), after a '#' comment is cut off when
  * \a comments. */
-void
-splitLine(const char* begin, const char* end, bool comments, std::vector<Token>& words)
-{
+void splitLine(const char* begin, const char* end, bool comments, std::vector<Token>& words) {
   words.clear();
   if (comments)
     end = std::find(begin, end, '#');
@@ -65,16 +59,12 @@ splitLine(const char* begin, const char* end, bool comments, std::vector<Token>&
   }
 }
 
-bool
-equals(const Token& t, const char* word)
-{
+bool equals(const Token& t, const char* word) {
   const std::size_t n = std::strlen(word);
   return static_cast<std::size_t>(t.second - t.first) == n && std::memcmp(t.first, word, n) == 0;
 }
 
-bool
-parseDouble(const Token& t, double& v)
-{
+bool parseDouble(const Token& t, double& v) {
   const char* first = (t.second - t.first > 1 && *t.first == '+') ? t.first + 1 : t.first;
   const auto [ptr, ec] = std::from_chars(first, t.second, v);
   if (ec == std::errc::result_out_of_range && ptr == t.second) {
@@ -84,17 +74,13 @@ parseDouble(const Token& t, double& v)
   return ec == std::errc() && ptr == t.second;
 }
 
-bool
-parseInteger(const char* begin, const char* end, long long& v)
-{
+bool parseInteger(const char* begin, const char* end, long long& v) {
   const auto [ptr, ec] = std::from_chars(begin, end, v);
   return ec == std::errc() && ptr == end && begin < end;
 }
 
 /** A face vertex: v, v/t, v//n or v/t/n with integers (t and n are read and ignored). */
-bool
-parseFaceVertex(const Token& t, long long& v)
-{
+bool parseFaceVertex(const Token& t, long long& v) {
   const char* s1 = std::find(t.first, t.second, '/');
   if (!parseInteger(t.first, s1, v) || v == 0)
     return false;
@@ -110,9 +96,7 @@ parseFaceVertex(const Token& t, long long& v)
 
 /** Visits the lines of \a data: f(line_number, begin, end) without the line break. */
 template <typename F>
-void
-forEachLine(const std::string& data, F f)
-{
+void forEachLine(const std::string& data, F f) {
   std::size_t pos = 0, line = 0;
   while (pos < data.size()) {
     std::size_t eol = data.find('\n', pos);
@@ -123,26 +107,21 @@ forEachLine(const std::string& data, F f)
   }
 }
 
-pcl::PolygonMesh
-toMesh(const pcl::PointCloud<pcl::PointXYZ>& vertices, std::vector<pcl::Vertices> polygons)
-{
+pcl::PolygonMesh toMesh(const pcl::PointCloud<pcl::PointXYZ>& vertices,
+                        std::vector<pcl::Vertices> polygons) {
   pcl::PolygonMesh mesh;
   pcl::toPCLPointCloud2(vertices, mesh.cloud);
   mesh.polygons = std::move(polygons);
   return mesh;
 }
 
-void
-checkElementCount(const std::string& path, std::size_t count, const char* what)
-{
+void checkElementCount(const std::string& path, std::size_t count, const char* what) {
   if (count >= kMaxMeshElements)
     throw FileError(path + ": more than " + std::to_string(kMaxMeshElements) + " " + what +
                     ", more than this reader accepts");
 }
 
-pcl::PolygonMesh
-readBinaryStl(const std::string& path, const std::string& data)
-{
+pcl::PolygonMesh readBinaryStl(const std::string& path, const std::string& data) {
   if (data.size() < 84)
     throw FileError(path + ": binary STL shorter than its 84-byte header (truncated file)");
   std::uint32_t triangles;
@@ -174,9 +153,7 @@ readBinaryStl(const std::string& path, const std::string& data)
   return toMesh(vertices, std::move(polygons));
 }
 
-pcl::PolygonMesh
-readAsciiStl(const std::string& path, const std::string& data)
-{
+pcl::PolygonMesh readAsciiStl(const std::string& path, const std::string& data) {
   pcl::PointCloud<pcl::PointXYZ> vertices;
   std::vector<pcl::Vertices> polygons;
   std::unordered_map<std::string, pcl::index_t> seen;
@@ -209,8 +186,7 @@ readAsciiStl(const std::string& path, const std::string& data)
       in_facet = true;
       polygons.emplace_back();
       checkElementCount(path, polygons.size(), "facets");
-    }
-    else if (equals(key, "vertex")) {
+    } else if (equals(key, "vertex")) {
       double v[3];
       if (!in_facet || words.size() != 4 || !parseDouble(words[1], v[0]) ||
           !parseDouble(words[2], v[1]) || !parseDouble(words[3], v[2]))
@@ -223,38 +199,32 @@ readAsciiStl(const std::string& path, const std::string& data)
       std::memcpy(key_bytes, &p.x, 4);
       std::memcpy(key_bytes + 4, &p.y, 4);
       std::memcpy(key_bytes + 8, &p.z, 4);
-      const auto inserted = seen.emplace(std::string(key_bytes, 12),
-                                         static_cast<pcl::index_t>(vertices.size()));
+      const auto inserted =
+          seen.emplace(std::string(key_bytes, 12), static_cast<pcl::index_t>(vertices.size()));
       if (inserted.second)
         vertices.push_back(p);
       polygons.back().vertices.push_back(inserted.first->second);
       checkElementCount(path, polygons.back().vertices.size(), "vertices in a facet");
-    }
-    else if (equals(key, "endfacet")) {
+    } else if (equals(key, "endfacet")) {
       if (!in_facet)
         throw FileError(where + "endfacet outside a facet (malformed STL file)");
       if (polygons.back().vertices.size() < 3)
-        throw FileError(where + "a facet with " +
-                        std::to_string(polygons.back().vertices.size()) +
+        throw FileError(where + "a facet with " + std::to_string(polygons.back().vertices.size()) +
                         " vertices (malformed STL file)");
       in_facet = false;
-    }
-    else if (!equals(key, "outer") && !equals(key, "endloop"))
+    } else if (!equals(key, "outer") && !equals(key, "endloop"))
       throw FileError(where + "'" + printable(std::string(key.first, key.second)) +
                       "' is not an ascii STL keyword (malformed STL file)");
   });
   if (in_facet || in_solid)
-    throw FileError(path + ":" + std::to_string(last_line) +
-                    ": the file ends inside a " + (in_facet ? "facet" : "solid") +
-                    " (truncated STL file)");
+    throw FileError(path + ":" + std::to_string(last_line) + ": the file ends inside a " +
+                    (in_facet ? "facet" : "solid") + " (truncated STL file)");
   return toMesh(vertices, std::move(polygons));
 }
 
 }  // namespace
 
-pcl::PolygonMesh
-readStlFile(const std::string& path)
-{
+pcl::PolygonMesh readStlFile(const std::string& path) {
   const std::string data = readWholeFile(path);
   // A binary file whose size matches its triangle count is binary, whatever its first bytes
   // (some exporters start the 80-byte header with "solid" too).
@@ -270,9 +240,7 @@ readStlFile(const std::string& path)
   return readBinaryStl(path, data);
 }
 
-pcl::PolygonMesh
-readObjFile(const std::string& path)
-{
+pcl::PolygonMesh readObjFile(const std::string& path) {
   const std::string data = readWholeFile(path);
   pcl::PointCloud<pcl::PointXYZ> vertices;
   std::vector<pcl::Vertices> polygons;

@@ -25,9 +25,7 @@ constexpr std::uint64_t kMaxPointBytes = 1 << 20;
 /** LZF turns 3 bytes into at most 264 (a back reference of maximal length). */
 constexpr std::uint64_t kMaxLzfRatio = 88;
 
-std::string
-printable(const std::string& token)
-{
+std::string printable(const std::string& token) {
   std::string out;
   for (const char c : token.substr(0, 32))
     out += (c >= 32 && c < 127) ? c : '?';
@@ -36,9 +34,7 @@ printable(const std::string& token)
   return out;
 }
 
-std::vector<std::string>
-splitWords(const std::string& line)
-{
+std::vector<std::string> splitWords(const std::string& line) {
   std::vector<std::string> words;
   std::size_t i = 0;
   while (i < line.size()) {
@@ -54,33 +50,27 @@ splitWords(const std::string& line)
 }
 
 template <typename T>
-bool
-parseNumber(const std::string& word, T& value)
-{
+bool parseNumber(const std::string& word, T& value) {
   const auto [ptr, ec] = std::from_chars(word.data(), word.data() + word.size(), value);
   return ec == std::errc() && ptr == word.data() + word.size();
 }
 
-std::uint8_t
-pclType(char type, int size)
-{
+std::uint8_t pclType(char type, int size) {
   if (type == 'F')
     return size == 8 ? pcl::PCLPointField::FLOAT64 : pcl::PCLPointField::FLOAT32;
   const bool is_signed = type == 'I';
   switch (size) {
-  case 1:
-    return is_signed ? pcl::PCLPointField::INT8 : pcl::PCLPointField::UINT8;
-  case 2:
-    return is_signed ? pcl::PCLPointField::INT16 : pcl::PCLPointField::UINT16;
-  default:
-    return is_signed ? pcl::PCLPointField::INT32 : pcl::PCLPointField::UINT32;
+    case 1:
+      return is_signed ? pcl::PCLPointField::INT8 : pcl::PCLPointField::UINT8;
+    case 2:
+      return is_signed ? pcl::PCLPointField::INT16 : pcl::PCLPointField::UINT16;
+    default:
+      return is_signed ? pcl::PCLPointField::INT32 : pcl::PCLPointField::UINT32;
   }
 }
 
 /** One ascii value of a field of type \a type and \a size, stored at \a out. */
-bool
-parseAscii(const char* begin, const char* end, char type, int size, std::uint8_t* out)
-{
+bool parseAscii(const char* begin, const char* end, char type, int size, std::uint8_t* out) {
   if (end - begin > 1 && *begin == '+')
     ++begin;
   if (type == 'F') {
@@ -118,19 +108,20 @@ parseAscii(const char* begin, const char* end, char type, int size, std::uint8_t
     const std::int8_t b8 = static_cast<std::int8_t>(x);
     const std::int16_t b16 = static_cast<std::int16_t>(x);
     const std::int32_t b32 = static_cast<std::int32_t>(x);
-    std::memcpy(out, size == 1 ? static_cast<const void*>(&b8)
-                     : size == 2 ? static_cast<const void*>(&b16)
-                                 : static_cast<const void*>(&b32),
+    std::memcpy(out,
+                size == 1   ? static_cast<const void*>(&b8)
+                : size == 2 ? static_cast<const void*>(&b16)
+                            : static_cast<const void*>(&b32),
                 static_cast<std::size_t>(size));
-  }
-  else {
+  } else {
     const auto x = static_cast<std::uint64_t>(v);
     const std::uint8_t b8 = static_cast<std::uint8_t>(x);
     const std::uint16_t b16 = static_cast<std::uint16_t>(x);
     const std::uint32_t b32 = static_cast<std::uint32_t>(x);
-    std::memcpy(out, size == 1 ? static_cast<const void*>(&b8)
-                     : size == 2 ? static_cast<const void*>(&b16)
-                                 : static_cast<const void*>(&b32),
+    std::memcpy(out,
+                size == 1   ? static_cast<const void*>(&b8)
+                : size == 2 ? static_cast<const void*>(&b16)
+                            : static_cast<const void*>(&b32),
                 static_cast<std::size_t>(size));
   }
   return true;
@@ -146,10 +137,8 @@ struct Field {
 
 }  // namespace
 
-void
-readPcdFile(const std::string& path, std::uint64_t max_points, pcl::PCLPointCloud2& cloud,
-            Eigen::Vector4f& origin, Eigen::Quaternionf& orientation)
-{
+void readPcdFile(const std::string& path, std::uint64_t max_points, pcl::PCLPointCloud2& cloud,
+                 Eigen::Vector4f& origin, Eigen::Quaternionf& orientation) {
   std::ifstream in(path, std::ios::binary);
   const std::string file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (!in.eof() && in.fail())
@@ -172,8 +161,8 @@ readPcdFile(const std::string& path, std::uint64_t max_points, pcl::PCLPointClou
     const std::string line = file.substr(pos, stop - pos);
     pos = stop + 1;
     ++line_number;
-    const std::string where = path + ": PCD header line " + std::to_string(line_number) + " '" +
-                              printable(line) + "' ";
+    const std::string where =
+        path + ": PCD header line " + std::to_string(line_number) + " '" + printable(line) + "' ";
     for (const char c : line)
       if (!((c >= 32 && c < 127) || c == '\t' || c == '\r'))
         throw FileError(where + "has a byte that is not printable text (malformed PCD file)");
@@ -186,21 +175,18 @@ readPcdFile(const std::string& path, std::uint64_t max_points, pcl::PCLPointClou
       if (rest.empty() || !fields.empty())
         throw FileError(where + "(FIELDS: one or more names, once)");
       fields = rest;
-    }
-    else if (key == "SIZE" || key == "TYPE" || key == "COUNT") {
+    } else if (key == "SIZE" || key == "TYPE" || key == "COUNT") {
       std::vector<std::string>& target = key == "SIZE" ? sizes : key == "TYPE" ? types : counts;
       if (fields.empty() || rest.size() != fields.size() || !target.empty())
         throw FileError(where + "(" + key + ": one entry per field, after FIELDS, once)");
       target = rest;
-    }
-    else if (key == "WIDTH" || key == "HEIGHT" || key == "POINTS") {
+    } else if (key == "WIDTH" || key == "HEIGHT" || key == "POINTS") {
       std::uint64_t v = 0;
       if (rest.size() != 1 || !parseNumber(rest[0], v))
         throw FileError(where + "(" + key + ": one non-negative integer)");
       (key == "WIDTH" ? width : key == "HEIGHT" ? height : points) = v;
       (key == "WIDTH" ? has_width : key == "HEIGHT" ? has_height : has_points) = true;
-    }
-    else if (key == "VIEWPOINT") {
+    } else if (key == "VIEWPOINT") {
       float v[7];
       bool ok = rest.size() == 7;
       for (std::size_t i = 0; ok && i < 7; ++i)
@@ -209,14 +195,12 @@ readPcdFile(const std::string& path, std::uint64_t max_points, pcl::PCLPointClou
         throw FileError(where + "(VIEWPOINT: 7 numbers, tx ty tz qw qx qy qz)");
       origin = Eigen::Vector4f(v[0], v[1], v[2], 0.f);
       orientation = Eigen::Quaternionf(v[3], v[4], v[5], v[6]);
-    }
-    else if (key == "DATA") {
+    } else if (key == "DATA") {
       if (rest.size() != 1)
         throw FileError(where + "(DATA: ascii, binary or binary_compressed)");
       data = rest[0];
       has_data = true;
-    }
-    else
+    } else
       throw FileError(where + "is not a PCD header line (malformed PCD file)");
   }
   if (data != "ascii" && data != "binary" && data != "binary_compressed")
@@ -263,8 +247,8 @@ readPcdFile(const std::string& path, std::uint64_t max_points, pcl::PCLPointClou
                     " this reader accepts");
   if (width * height != points)
     throw FileError(path + ": PCD header's WIDTH " + std::to_string(width) + " x HEIGHT " +
-                    std::to_string(height) + " differs from its POINTS " +
-                    std::to_string(points) + " (malformed PCD file)");
+                    std::to_string(height) + " differs from its POINTS " + std::to_string(points) +
+                    " (malformed PCD file)");
   const std::uint64_t bytes = points * point_step;
   if (width * point_step > 0xffffffffu)
     throw FileError(path + ": PCD rows of more than 4 GiB, more than this reader accepts");
@@ -355,8 +339,8 @@ readPcdFile(const std::string& path, std::uint64_t max_points, pcl::PCLPointClou
         while (p < end && !space(*p))
           ++p;
         if (token == p)
-          throw FileError(path + ": ascii PCD data ends at point " + std::to_string(i) +
-                          " of " + std::to_string(points) + " (truncated file)");
+          throw FileError(path + ": ascii PCD data ends at point " + std::to_string(i) + " of " +
+                          std::to_string(points) + " (truncated file)");
         if (!parseAscii(token, p, f.type, f.size,
                         cloud.data.data() + i * point_step + f.offset + k * f.size))
           throw FileError(path + ": '" + printable(std::string(token, p)) + "' at point " +

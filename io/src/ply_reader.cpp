@@ -37,38 +37,32 @@ struct Element {
 
 constexpr std::size_t kMaxHeaderBytes = 65536;
 
-std::size_t
-scalarSize(Scalar t)
-{
+std::size_t scalarSize(Scalar t) {
   switch (t) {
-  case Scalar::I8:
-  case Scalar::U8:
-    return 1;
-  case Scalar::I16:
-  case Scalar::U16:
-    return 2;
-  case Scalar::F64:
-    return 8;
-  default:
-    return 4;
+    case Scalar::I8:
+    case Scalar::U8:
+      return 1;
+    case Scalar::I16:
+    case Scalar::U16:
+      return 2;
+    case Scalar::F64:
+      return 8;
+    default:
+      return 4;
   }
 }
 
-bool
-isInteger(Scalar t)
-{
+bool isInteger(Scalar t) {
   return t != Scalar::F32 && t != Scalar::F64;
 }
 
-bool
-parseScalar(const std::string& name, Scalar& t)
-{
+bool parseScalar(const std::string& name, Scalar& t) {
   static const std::pair<const char*, Scalar> names[] = {
-      {"char", Scalar::I8},     {"int8", Scalar::I8},     {"uchar", Scalar::U8},
-      {"uint8", Scalar::U8},    {"short", Scalar::I16},   {"int16", Scalar::I16},
-      {"ushort", Scalar::U16},  {"uint16", Scalar::U16},  {"int", Scalar::I32},
-      {"int32", Scalar::I32},   {"uint", Scalar::U32},    {"uint32", Scalar::U32},
-      {"float", Scalar::F32},   {"float32", Scalar::F32}, {"double", Scalar::F64},
+      {"char", Scalar::I8},    {"int8", Scalar::I8},     {"uchar", Scalar::U8},
+      {"uint8", Scalar::U8},   {"short", Scalar::I16},   {"int16", Scalar::I16},
+      {"ushort", Scalar::U16}, {"uint16", Scalar::U16},  {"int", Scalar::I32},
+      {"int32", Scalar::I32},  {"uint", Scalar::U32},    {"uint32", Scalar::U32},
+      {"float", Scalar::F32},  {"float32", Scalar::F32}, {"double", Scalar::F64},
       {"float64", Scalar::F64}};
   for (const auto& n : names)
     if (name == n.first) {
@@ -78,57 +72,51 @@ parseScalar(const std::string& name, Scalar& t)
   return false;
 }
 
-std::uint8_t
-pclType(Scalar t)
-{
+std::uint8_t pclType(Scalar t) {
   switch (t) {
-  case Scalar::I8:
-    return pcl::PCLPointField::INT8;
-  case Scalar::U8:
-    return pcl::PCLPointField::UINT8;
-  case Scalar::I16:
-    return pcl::PCLPointField::INT16;
-  case Scalar::U16:
-    return pcl::PCLPointField::UINT16;
-  case Scalar::I32:
-    return pcl::PCLPointField::INT32;
-  case Scalar::U32:
-    return pcl::PCLPointField::UINT32;
-  case Scalar::F64:
-    return pcl::PCLPointField::FLOAT64;
-  default:
-    return pcl::PCLPointField::FLOAT32;
+    case Scalar::I8:
+      return pcl::PCLPointField::INT8;
+    case Scalar::U8:
+      return pcl::PCLPointField::UINT8;
+    case Scalar::I16:
+      return pcl::PCLPointField::INT16;
+    case Scalar::U16:
+      return pcl::PCLPointField::UINT16;
+    case Scalar::I32:
+      return pcl::PCLPointField::INT32;
+    case Scalar::U32:
+      return pcl::PCLPointField::UINT32;
+    case Scalar::F64:
+      return pcl::PCLPointField::FLOAT64;
+    default:
+      return pcl::PCLPointField::FLOAT32;
   }
 }
 
 /** Lowest and highest value of an integer type. */
-void
-integerRange(Scalar t, double& lo, double& hi)
-{
+void integerRange(Scalar t, double& lo, double& hi) {
   switch (t) {
-  case Scalar::I8:
-    lo = -128.0, hi = 127.0;
-    return;
-  case Scalar::U8:
-    lo = 0.0, hi = 255.0;
-    return;
-  case Scalar::I16:
-    lo = -32768.0, hi = 32767.0;
-    return;
-  case Scalar::U16:
-    lo = 0.0, hi = 65535.0;
-    return;
-  case Scalar::I32:
-    lo = -2147483648.0, hi = 2147483647.0;
-    return;
-  default:
-    lo = 0.0, hi = 4294967295.0;
+    case Scalar::I8:
+      lo = -128.0, hi = 127.0;
+      return;
+    case Scalar::U8:
+      lo = 0.0, hi = 255.0;
+      return;
+    case Scalar::I16:
+      lo = -32768.0, hi = 32767.0;
+      return;
+    case Scalar::U16:
+      lo = 0.0, hi = 65535.0;
+      return;
+    case Scalar::I32:
+      lo = -2147483648.0, hi = 2147483647.0;
+      return;
+    default:
+      lo = 0.0, hi = 4294967295.0;
   }
 }
 
-std::string
-printable(const std::string& token)
-{
+std::string printable(const std::string& token) {
   std::string out;
   for (const char c : token.substr(0, 32))
     out += (c >= 32 && c < 127) ? c : '?';
@@ -137,9 +125,7 @@ printable(const std::string& token)
   return out;
 }
 
-std::vector<std::string>
-splitWords(const std::string& line)
-{
+std::vector<std::string> splitWords(const std::string& line) {
   std::vector<std::string> words;
   std::size_t i = 0;
   while (i < line.size()) {
@@ -156,21 +142,14 @@ splitWords(const std::string& line)
 
 /** The bytes of the PLY body as typed values: ascii tokens or binary fields. */
 class Body {
-public:
+ public:
   Body(const std::string& data, std::size_t pos, Format format, const std::string& path)
-  : data_(data), pos_(pos), format_(format), path_(path)
-  {}
+      : data_(data), pos_(pos), format_(format), path_(path) {}
 
-  std::size_t
-  remaining() const
-  {
-    return data_.size() - std::min(pos_, data_.size());
-  }
+  std::size_t remaining() const { return data_.size() - std::min(pos_, data_.size()); }
 
   /** Next value of type \a t as a double (any type converts exactly, but uint64). */
-  double
-  value(Scalar t, const char* what)
-  {
+  double value(Scalar t, const char* what) {
     if (format_ == Format::Ascii)
       return asciiValue(t, what);
     std::uint8_t bytes[8];
@@ -179,75 +158,67 @@ public:
   }
 
   /** Next value of type \a t written to \a out in the machine's byte order. */
-  void
-  store(Scalar t, std::uint8_t* out, const char* what)
-  {
+  void store(Scalar t, std::uint8_t* out, const char* what) {
     if (format_ != Format::Ascii) {
       binaryValue(t, out, what);
       return;
     }
     const double v = asciiValue(t, what);
     switch (t) {
-    case Scalar::I8: {
-      const auto x = static_cast<std::int8_t>(v);
-      std::memcpy(out, &x, 1);
-      return;
-    }
-    case Scalar::U8: {
-      const auto x = static_cast<std::uint8_t>(v);
-      std::memcpy(out, &x, 1);
-      return;
-    }
-    case Scalar::I16: {
-      const auto x = static_cast<std::int16_t>(v);
-      std::memcpy(out, &x, 2);
-      return;
-    }
-    case Scalar::U16: {
-      const auto x = static_cast<std::uint16_t>(v);
-      std::memcpy(out, &x, 2);
-      return;
-    }
-    case Scalar::I32: {
-      const auto x = static_cast<std::int32_t>(v);
-      std::memcpy(out, &x, 4);
-      return;
-    }
-    case Scalar::U32: {
-      const auto x = static_cast<std::uint32_t>(v);
-      std::memcpy(out, &x, 4);
-      return;
-    }
-    case Scalar::F32: {
-      const float x = static_cast<float>(v);  // beyond float's range: +-inf, as IEEE says
-      std::memcpy(out, &x, 4);
-      return;
-    }
-    case Scalar::F64:
-      std::memcpy(out, &v, 8);
-      return;
+      case Scalar::I8: {
+        const auto x = static_cast<std::int8_t>(v);
+        std::memcpy(out, &x, 1);
+        return;
+      }
+      case Scalar::U8: {
+        const auto x = static_cast<std::uint8_t>(v);
+        std::memcpy(out, &x, 1);
+        return;
+      }
+      case Scalar::I16: {
+        const auto x = static_cast<std::int16_t>(v);
+        std::memcpy(out, &x, 2);
+        return;
+      }
+      case Scalar::U16: {
+        const auto x = static_cast<std::uint16_t>(v);
+        std::memcpy(out, &x, 2);
+        return;
+      }
+      case Scalar::I32: {
+        const auto x = static_cast<std::int32_t>(v);
+        std::memcpy(out, &x, 4);
+        return;
+      }
+      case Scalar::U32: {
+        const auto x = static_cast<std::uint32_t>(v);
+        std::memcpy(out, &x, 4);
+        return;
+      }
+      case Scalar::F32: {
+        const float x = static_cast<float>(v);  // beyond float's range: +-inf, as IEEE says
+        std::memcpy(out, &x, 4);
+        return;
+      }
+      case Scalar::F64:
+        std::memcpy(out, &v, 8);
+        return;
     }
   }
 
   /** Skips \a bytes of binary data (a row of fixed size). */
-  void
-  skip(std::uint64_t bytes, const char* what)
-  {
+  void skip(std::uint64_t bytes, const char* what) {
     if (bytes > remaining())
       truncated(what);
     pos_ += static_cast<std::size_t>(bytes);
   }
 
-  [[noreturn]] void
-  truncated(const char* what) const
-  {
+  [[noreturn]] void truncated(const char* what) const {
     throw FileError(path_ + ": PLY data ends inside the " + what + " (truncated file)");
   }
 
-private:
-  void
-  binaryValue(Scalar t, std::uint8_t* out, const char* what)
-  {
+ private:
+  void binaryValue(Scalar t, std::uint8_t* out, const char* what) {
     const std::size_t n = scalarSize(t);
     if (n > remaining())
       truncated(what);
@@ -257,59 +228,55 @@ private:
       std::reverse(out, out + n);
   }
 
-  static double
-  decode(Scalar t, const std::uint8_t* b)
-  {
+  static double decode(Scalar t, const std::uint8_t* b) {
     switch (t) {
-    case Scalar::I8:
-      return static_cast<std::int8_t>(b[0]);
-    case Scalar::U8:
-      return b[0];
-    case Scalar::I16: {
-      std::int16_t v;
-      std::memcpy(&v, b, 2);
-      return v;
-    }
-    case Scalar::U16: {
-      std::uint16_t v;
-      std::memcpy(&v, b, 2);
-      return v;
-    }
-    case Scalar::I32: {
-      std::int32_t v;
-      std::memcpy(&v, b, 4);
-      return v;
-    }
-    case Scalar::U32: {
-      std::uint32_t v;
-      std::memcpy(&v, b, 4);
-      return v;
-    }
-    case Scalar::F32: {
-      float v;
-      std::memcpy(&v, b, 4);
-      return v;
-    }
-    case Scalar::F64: {
-      double v;
-      std::memcpy(&v, b, 8);
-      return v;
-    }
+      case Scalar::I8:
+        return static_cast<std::int8_t>(b[0]);
+      case Scalar::U8:
+        return b[0];
+      case Scalar::I16: {
+        std::int16_t v;
+        std::memcpy(&v, b, 2);
+        return v;
+      }
+      case Scalar::U16: {
+        std::uint16_t v;
+        std::memcpy(&v, b, 2);
+        return v;
+      }
+      case Scalar::I32: {
+        std::int32_t v;
+        std::memcpy(&v, b, 4);
+        return v;
+      }
+      case Scalar::U32: {
+        std::uint32_t v;
+        std::memcpy(&v, b, 4);
+        return v;
+      }
+      case Scalar::F32: {
+        float v;
+        std::memcpy(&v, b, 4);
+        return v;
+      }
+      case Scalar::F64: {
+        double v;
+        std::memcpy(&v, b, 8);
+        return v;
+      }
     }
     return 0.0;
   }
 
-  double
-  asciiValue(Scalar t, const char* what)
-  {
+  double asciiValue(Scalar t, const char* what) {
     const char* end = data_.data() + data_.size();
     const char* p = data_.data() + pos_;
-    while (p < end && (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n' || *p == '\v' ||
-                       *p == '\f'))
+    while (p < end &&
+           (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n' || *p == '\v' || *p == '\f'))
       ++p;
     const char* start = p;
-    while (p < end && !(*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n' || *p == '\v' ||
-                        *p == '\f'))
+    while (p < end &&
+           !(*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n' || *p == '\v' || *p == '\f'))
       ++p;
     pos_ = static_cast<std::size_t>(p - data_.data());
     if (p == start)
@@ -341,9 +308,7 @@ private:
 };
 
 /** Least number of bytes a row of \a e can take. */
-std::uint64_t
-minimumRowBytes(const Element& e, Format format)
-{
+std::uint64_t minimumRowBytes(const Element& e, Format format) {
   std::uint64_t bytes = 0;
   for (const Property& p : e.properties)
     bytes += format == Format::Ascii ? 2 : scalarSize(p.list ? p.count_type : p.type);
@@ -356,11 +321,8 @@ struct Header {
   std::size_t body = 0;  ///< offset of the first byte after end_header's line
 };
 
-Header
-parseHeader(const std::string& data, const std::string& path)
-{
-  if (data.compare(0, 3, "ply") != 0 ||
-      (data.size() > 3 && data[3] != '\n' && data[3] != '\r'))
+Header parseHeader(const std::string& data, const std::string& path) {
+  if (data.compare(0, 3, "ply") != 0 || (data.size() > 3 && data[3] != '\n' && data[3] != '\r'))
     throw FileError(path + ": not a PLY file (no 'ply' header line)");
   Header h;
   bool format_seen = false;
@@ -393,8 +355,7 @@ parseHeader(const std::string& data, const std::string& path)
       else
         throw FileError(bad + "names an unknown format");
       format_seen = true;
-    }
-    else if (words[0] == "element") {
+    } else if (words[0] == "element") {
       Element e;
       if (words.size() != 3)
         throw FileError(bad + "is not 'element <name> <count>'");
@@ -404,15 +365,15 @@ parseHeader(const std::string& data, const std::string& path)
       if (ec != std::errc() || ptr != end)
         throw FileError(bad + "has no valid element count");
       h.elements.push_back(e);
-    }
-    else if (words[0] == "property") {
+    } else if (words[0] == "property") {
       if (h.elements.empty())
         throw FileError(bad + "comes before any element");
       Property p;
       const bool list = words.size() == 5 && words[1] == "list";
       if (!(list || words.size() == 3))
-        throw FileError(bad + "is not 'property <type> <name>' or 'property list <count "
-                              "type> <type> <name>'");
+        throw FileError(bad +
+                        "is not 'property <type> <name>' or 'property list <count "
+                        "type> <type> <name>'");
       p.list = list;
       if (list && (!parseScalar(words[2], p.count_type) || !isInteger(p.count_type)))
         throw FileError(bad + "has no integer list count type");
@@ -420,8 +381,7 @@ parseHeader(const std::string& data, const std::string& path)
         throw FileError(bad + "has an unknown type");
       p.name = words.back();
       h.elements.back().properties.push_back(p);
-    }
-    else
+    } else
       throw FileError(bad + "is not a PLY header line (malformed file)");
   }
   if (!format_seen)
@@ -429,9 +389,7 @@ parseHeader(const std::string& data, const std::string& path)
   return h;
 }
 
-std::string
-readWholeFile(const std::string& path)
-{
+std::string readWholeFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (!in.eof() && in.fail())
@@ -441,9 +399,7 @@ readWholeFile(const std::string& path)
 
 }  // namespace
 
-PlyContents
-readPlyFile(const std::string& path, bool read_faces, std::uint64_t max_vertices)
-{
+PlyContents readPlyFile(const std::string& path, bool read_faces, std::uint64_t max_vertices) {
   const std::string data = readWholeFile(path);
   const Header header = parseHeader(data, path);
 
@@ -485,8 +441,8 @@ readPlyFile(const std::string& path, bool read_faces, std::uint64_t max_vertices
   std::uint32_t step = 0;
   for (std::size_t i = 0; i < vertex->properties.size(); ++i) {
     const Property& p = vertex->properties[i];
-    const bool is_colour = packed && std::find(colour, colour + 4, static_cast<int>(i)) !=
-                                         colour + 4;
+    const bool is_colour =
+        packed && std::find(colour, colour + 4, static_cast<int>(i)) != colour + 4;
     if (p.list || is_colour)
       continue;
     pcl::PCLPointField f;
@@ -511,9 +467,8 @@ readPlyFile(const std::string& path, bool read_faces, std::uint64_t max_vertices
   cloud.width = static_cast<std::uint32_t>(vertex->count);
   cloud.height = 1;
   cloud.point_step = step;
-  cloud.row_step = static_cast<std::uint32_t>(
-      std::min<std::uint64_t>(std::uint64_t(step) * vertex->count,
-                              std::numeric_limits<std::uint32_t>::max()));
+  cloud.row_step = static_cast<std::uint32_t>(std::min<std::uint64_t>(
+      std::uint64_t(step) * vertex->count, std::numeric_limits<std::uint32_t>::max()));
   cloud.is_bigendian = false;
   cloud.is_dense = false;
 
@@ -545,9 +500,8 @@ readPlyFile(const std::string& path, bool read_faces, std::uint64_t max_vertices
     if (is_face && indices && !isInteger(indices->type))
       throw FileError(path + ": PLY face indices are not of an integer type");
     if (is_face)
-      out.polygons.reserve(static_cast<std::size_t>(
-          std::min<std::uint64_t>(e.count, body.remaining() / minimumRowBytes(e, header.format) +
-                                               1)));
+      out.polygons.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(
+          e.count, body.remaining() / minimumRowBytes(e, header.format) + 1)));
     const std::uint64_t item_bytes_min = header.format == Format::Ascii ? 2 : 0;
     for (std::uint64_t row = 0; row < e.count; ++row) {
       std::uint8_t* point = is_vertex ? cloud.data.data() + row * step : nullptr;
@@ -558,15 +512,14 @@ readPlyFile(const std::string& path, bool read_faces, std::uint64_t max_vertices
         if (!p.list) {
           if (is_vertex && offset_of[i] >= 0)
             body.store(p.type, point + offset_of[i], what);
-          else if (is_vertex && packed && std::find(colour, colour + 4, static_cast<int>(i)) !=
-                                              colour + 4) {
-            const int c = static_cast<int>(std::find(colour, colour + 4, static_cast<int>(i)) -
-                                           colour);
+          else if (is_vertex && packed &&
+                   std::find(colour, colour + 4, static_cast<int>(i)) != colour + 4) {
+            const int c =
+                static_cast<int>(std::find(colour, colour + 4, static_cast<int>(i)) - colour);
             // Packed as PCL does: b, g, r, a in memory (little-endian 0xAARRGGBB).
             const int byte = c == 3 ? 3 : 2 - c;
             body.store(Scalar::U8, point + colour_offset + byte, what);
-          }
-          else
+          } else
             body.value(p.type, what);
           continue;
         }
@@ -575,8 +528,8 @@ readPlyFile(const std::string& path, bool read_faces, std::uint64_t max_vertices
           throw FileError(path + ": negative list length in the " + what_s +
                           " (malformed PLY file)");
         const std::uint64_t n = static_cast<std::uint64_t>(count);
-        const std::uint64_t item = header.format == Format::Ascii ? item_bytes_min
-                                                                  : scalarSize(p.type);
+        const std::uint64_t item =
+            header.format == Format::Ascii ? item_bytes_min : scalarSize(p.type);
         if (n > 0 && n > (body.remaining() + 1) / item)
           body.truncated(what);
         const bool keep = is_face && &p == indices;

@@ -9,9 +9,8 @@
 namespace pcl {
 namespace icf {
 
-ClosestPointOnFace<float>
-closestPointOnMeshFace(const FaceMesh& mesh, std::size_t f, const Eigen::Vector3f& p)
-{
+ClosestPointOnFace<float> closestPointOnMeshFace(const FaceMesh& mesh, std::size_t f,
+                                                 const Eigen::Vector3f& p) {
   const Face& face = mesh.faces()[f];
   if (face.count == 3)
     return closestPointOnTriangle(p, mesh.faceVertex(f, 0), mesh.faceVertex(f, 1),
@@ -29,9 +28,8 @@ closestPointOnMeshFace(const FaceMesh& mesh, std::size_t f, const Eigen::Vector3
   return closestPointOnConvexPolygon(p, corners, static_cast<int>(face.count), face.normal);
 }
 
-Eigen::Vector3f
-residualDirection(const FaceMesh& mesh, const Eigen::Vector3f& p, const ClosestFace& closest)
-{
+Eigen::Vector3f residualDirection(const FaceMesh& mesh, const Eigen::Vector3f& p,
+                                  const ClosestFace& closest) {
   const Eigen::Vector3f& n = mesh.faces()[static_cast<std::size_t>(closest.face)].normal;
   const Eigen::Vector3f offset = p - closest.point;
   const float length = offset.norm();
@@ -40,9 +38,7 @@ residualDirection(const FaceMesh& mesh, const Eigen::Vector3f& p, const ClosestF
   return offset / length;
 }
 
-ClosestFace
-BruteForceClosestFace::closestFace(const Eigen::Vector3f& p, float max_distance) const
-{
+ClosestFace BruteForceClosestFace::closestFace(const Eigen::Vector3f& p, float max_distance) const {
   ClosestFace best;
   if (!p.allFinite())
     return best;

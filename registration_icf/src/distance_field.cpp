@@ -14,9 +14,7 @@
 namespace pcl {
 namespace icf {
 
-void
-DistanceFieldParams::validate() const
-{
+void DistanceFieldParams::validate() const {
   auto fail = [](const char* field, double value, const char* rule) {
     std::ostringstream msg;
     msg << "DistanceFieldParams::" << field << " = " << value << ": " << rule;
@@ -35,8 +33,7 @@ DistanceFieldParams::validate() const
 }
 
 ClosestPointField::ClosestPointField(const ClosestFaceQuery& index,
-                                     const DistanceFieldParams& params)
-{
+                                     const DistanceFieldParams& params) {
   params.validate();
   const FaceMesh& mesh = index.mesh();
   const Eigen::Vector3f lo = mesh.boundsMin() - Eigen::Vector3f::Constant(params.margin);
@@ -70,7 +67,8 @@ ClosestPointField::ClosestPointField(const ClosestFaceQuery& index,
   // node's distance plus one cell (the distance is 1-Lipschitz), which keeps Embree's
   // traversal short. The stored values do not depend on the bound or the thread count.
   const int rows = dims_.y() * dims_.z();
-#pragma omp parallel for schedule(dynamic, 4) num_threads(threads > 0 ? threads : omp_get_num_procs())
+#pragma omp parallel for schedule(dynamic, 4) \
+    num_threads(threads > 0 ? threads : omp_get_num_procs())
   for (int row = 0; row < rows; ++row) {
     const int y = row % dims_.y(), z = row / dims_.y();
     float previous = std::numeric_limits<float>::infinity();
@@ -91,9 +89,7 @@ ClosestPointField::ClosestPointField(const ClosestFaceQuery& index,
   flagMedialCells();
 }
 
-void
-ClosestPointField::flagMedialCells()
-{
+void ClosestPointField::flagMedialCells() {
   // Where the closest point is continuous it moves at most about one cell diagonal between
   // neighbouring nodes (the projection on a convex patch is non-expansive). 1.25 times that marks
   // a jump: the cell straddles a medial axis.
@@ -114,9 +110,7 @@ ClosestPointField::flagMedialCells()
       }
 }
 
-double
-ClosestPointField::medialCellRatio() const
-{
+double ClosestPointField::medialCellRatio() const {
   std::size_t flagged = 0;
   for (std::uint8_t m : medial_)
     flagged += m;
@@ -124,9 +118,7 @@ ClosestPointField::medialCellRatio() const
   return cells > 0 ? static_cast<double>(flagged) / cells : 0.0;
 }
 
-ClosestPointField::Cell
-ClosestPointField::locate(const Eigen::Vector3f& p) const
-{
+ClosestPointField::Cell ClosestPointField::locate(const Eigen::Vector3f& p) const {
   // Grid coordinates, clamped so that the 8 nodes of the cell exist.
   const Eigen::Vector3f g = (p - origin_) * inv_cell_;
   Cell cell;
@@ -146,9 +138,7 @@ ClosestPointField::locate(const Eigen::Vector3f& p) const
   return cell;
 }
 
-Eigen::Vector3f
-ClosestPointField::interpolateClosest(const Cell& cell) const
-{
+Eigen::Vector3f ClosestPointField::interpolateClosest(const Cell& cell) const {
   const std::size_t sx = 3, sy = 3 * static_cast<std::size_t>(dims_.x()),
                     sz = sy * static_cast<std::size_t>(dims_.y());
   const float* n = nodes_.data() + 3 * cell.base;
@@ -166,9 +156,7 @@ ClosestPointField::interpolateClosest(const Cell& cell) const
   return out;
 }
 
-float
-ClosestPointField::interpolateDistance(const Cell& cell) const
-{
+float ClosestPointField::interpolateDistance(const Cell& cell) const {
   const std::size_t sy = static_cast<std::size_t>(dims_.x()),
                     sz = sy * static_cast<std::size_t>(dims_.y());
   const float* d = distances_.data() + cell.base;
@@ -182,21 +170,17 @@ ClosestPointField::interpolateDistance(const Cell& cell) const
   return c0 + t[2] * (c1 - c0);
 }
 
-Eigen::Vector3f
-ClosestPointField::closestPoint(const Eigen::Vector3f& p) const
-{
+Eigen::Vector3f ClosestPointField::closestPoint(const Eigen::Vector3f& p) const {
   return interpolateClosest(locate(p));
 }
 
-float
-ClosestPointField::distance(const Eigen::Vector3f& p) const
-{
+float ClosestPointField::distance(const Eigen::Vector3f& p) const {
   const Cell cell = locate(p);
   if (medial_[cell.base]) {
     // Beyond the grid the clamped trilinear distance would understate: add the overshoot.
-    const Eigen::Vector3f g = origin_ + cell_ * Eigen::Vector3f(cell.i[0] + cell.t[0],
-                                                                cell.i[1] + cell.t[1],
-                                                                cell.i[2] + cell.t[2]);
+    const Eigen::Vector3f g =
+        origin_ + cell_ * Eigen::Vector3f(cell.i[0] + cell.t[0], cell.i[1] + cell.t[1],
+                                          cell.i[2] + cell.t[2]);
     return interpolateDistance(cell) + (p - g).norm();
   }
   return (p - interpolateClosest(cell)).norm();

@@ -20,9 +20,7 @@ struct QueryState {
   float best_sq;
 };
 
-void
-faceBounds(const RTCBoundsFunctionArguments* args)
-{
+void faceBounds(const RTCBoundsFunctionArguments* args) {
   const auto* mesh = static_cast<const FaceMesh*>(args->geometryUserPtr);
   const std::size_t f = args->primID;
   Eigen::Vector3f lo = mesh->faceVertex(f, 0), hi = lo;
@@ -39,9 +37,7 @@ faceBounds(const RTCBoundsFunctionArguments* args)
   b->upper_z = hi.z();
 }
 
-bool
-closestFaceCallback(RTCPointQueryFunctionArguments* args)
-{
+bool closestFaceCallback(RTCPointQueryFunctionArguments* args) {
   auto* state = static_cast<QueryState*>(args->userPtr);
   const Eigen::Vector3f p(args->query->x, args->query->y, args->query->z);
   const ClosestPointOnFace<float> c = closestPointOnMeshFace(*state->mesh, args->primID, p);
@@ -57,9 +53,7 @@ closestFaceCallback(RTCPointQueryFunctionArguments* args)
   return true;
 }
 
-void
-throwOnDeviceError(RTCDevice device, const char* what)
-{
+void throwOnDeviceError(RTCDevice device, const char* what) {
   const RTCError error = rtcGetDeviceError(device);
   if (error != RTC_ERROR_NONE)
     throw std::runtime_error(std::string("Embree failed to ") + what + " (error " +
@@ -72,8 +66,7 @@ struct EmbreeClosestFaceIndex::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
 
-  ~Impl()
-  {
+  ~Impl() {
     if (scene)
       rtcReleaseScene(scene);
     if (device)
@@ -82,8 +75,7 @@ struct EmbreeClosestFaceIndex::Impl {
 };
 
 EmbreeClosestFaceIndex::EmbreeClosestFaceIndex(const FaceMesh& mesh)
-: ClosestFaceQuery(mesh), impl_(std::make_unique<Impl>())
-{
+    : ClosestFaceQuery(mesh), impl_(std::make_unique<Impl>()) {
   impl_->device = rtcNewDevice(nullptr);
   if (!impl_->device)
     throw std::runtime_error("Embree failed to create a device");
@@ -102,9 +94,8 @@ EmbreeClosestFaceIndex::EmbreeClosestFaceIndex(const FaceMesh& mesh)
 
 EmbreeClosestFaceIndex::~EmbreeClosestFaceIndex() = default;
 
-ClosestFace
-EmbreeClosestFaceIndex::closestFace(const Eigen::Vector3f& p, float max_distance) const
-{
+ClosestFace EmbreeClosestFaceIndex::closestFace(const Eigen::Vector3f& p,
+                                                float max_distance) const {
   ClosestFace best;
   if (!p.allFinite() || !(max_distance >= 0.f))
     return best;
@@ -123,9 +114,7 @@ EmbreeClosestFaceIndex::closestFace(const Eigen::Vector3f& p, float max_distance
   return best;
 }
 
-ClosestFaceQuery::Ptr
-makeClosestFaceIndex(const FaceMesh& mesh)
-{
+ClosestFaceQuery::Ptr makeClosestFaceIndex(const FaceMesh& mesh) {
   return std::make_shared<EmbreeClosestFaceIndex>(mesh);
 }
 

@@ -14,9 +14,7 @@
 namespace pcl {
 namespace icf {
 
-SearchStrategy
-parseSearchStrategy(const std::string& name)
-{
+SearchStrategy parseSearchStrategy(const std::string& name) {
   if (name == "fast")
     return SearchStrategy::Fast;
   if (name == "thesis")
@@ -24,15 +22,11 @@ parseSearchStrategy(const std::string& name)
   throw std::invalid_argument("unknown search strategy '" + name + "' (expected fast or thesis)");
 }
 
-std::string
-toString(SearchStrategy strategy)
-{
+std::string toString(SearchStrategy strategy) {
   return strategy == SearchStrategy::Fast ? "fast" : "thesis";
 }
 
-FallbackPolicy
-parseFallbackPolicy(const std::string& name)
-{
+FallbackPolicy parseFallbackPolicy(const std::string& name) {
   if (name == "off")
     return FallbackPolicy::Off;
   if (name == "auto")
@@ -43,41 +37,35 @@ parseFallbackPolicy(const std::string& name)
                               "' (expected off, auto or always)");
 }
 
-std::string
-toString(FallbackPolicy policy)
-{
+std::string toString(FallbackPolicy policy) {
   switch (policy) {
-  case FallbackPolicy::Off:
-    return "off";
-  case FallbackPolicy::Auto:
-    return "auto";
-  case FallbackPolicy::Always:
-    return "always";
+    case FallbackPolicy::Off:
+      return "off";
+    case FallbackPolicy::Auto:
+      return "auto";
+    case FallbackPolicy::Always:
+      return "always";
   }
   return "unknown";
 }
 
-std::string
-toString(IcfStatus status)
-{
+std::string toString(IcfStatus status) {
   switch (status) {
-  case IcfStatus::NotRun:
-    return "not run";
-  case IcfStatus::Accepted:
-    return "accepted";
-  case IcfStatus::Rejected:
-    return "rejected";
-  case IcfStatus::TooFewPoints:
-    return "too few points";
-  case IcfStatus::NoModel:
-    return "no model";
+    case IcfStatus::NotRun:
+      return "not run";
+    case IcfStatus::Accepted:
+      return "accepted";
+    case IcfStatus::Rejected:
+      return "rejected";
+    case IcfStatus::TooFewPoints:
+      return "too few points";
+    case IcfStatus::NoModel:
+      return "no model";
   }
   return "unknown";
 }
 
-void
-ThesisObjectiveParams::validate() const
-{
+void ThesisObjectiveParams::validate() const {
   auto fail = [](const char* field, double value, const char* rule) {
     std::ostringstream msg;
     msg << "ThesisObjectiveParams::" << field << " = " << value << ": " << rule;
@@ -95,9 +83,7 @@ ThesisObjectiveParams::validate() const
     fail("early_exit_count", early_exit_count, "must be >= 0");
 }
 
-void
-AcceptanceParams::validate() const
-{
+void AcceptanceParams::validate() const {
   auto fail = [](const char* field, double value, const char* rule) {
     std::ostringstream msg;
     msg << "AcceptanceParams::" << field << " = " << value << ": " << rule;
@@ -116,9 +102,7 @@ AcceptanceParams::validate() const
   visibility.validate();
 }
 
-void
-IcfParams::validate() const
-{
+void IcfParams::validate() const {
   global.validate();
   thesis.validate();
   objective.validate();
@@ -133,9 +117,7 @@ IcfParams::validate() const
                                 ": must lie in [0, 1024] (0 = all cores)");
 }
 
-bool
-isAcceptable(const PoseQuality& q, const AcceptanceParams& p)
-{
+bool isAcceptable(const PoseQuality& q, const AcceptanceParams& p) {
   if (q.inliers < p.min_inliers || q.surface_coverage < p.min_surface_coverage ||
       q.rmse > p.max_rmse)
     return false;
@@ -144,10 +126,8 @@ isAcceptable(const PoseQuality& q, const AcceptanceParams& p)
 
 namespace {
 
-double
-exactKernelScore(const ClosestFaceQuery& index, const std::vector<Eigen::Vector3f>& points,
-                 const Eigen::Isometry3f& scene_to_model, float kernel)
-{
+double exactKernelScore(const ClosestFaceQuery& index, const std::vector<Eigen::Vector3f>& points,
+                        const Eigen::Isometry3f& scene_to_model, float kernel) {
   double score = 0.0;
   for (const auto& x : points)
     score += kernelScore(index.closestFace(scene_to_model * x, kernel).distance, kernel);
@@ -157,10 +137,10 @@ exactKernelScore(const ClosestFaceQuery& index, const std::vector<Eigen::Vector3
 /** The points that can belong to the model at a pose: within its radius plus \a margin of its
  * surface centroid. In a merged cluster the rest belongs to other objects and only costs
  * closest-face queries. */
-std::vector<Eigen::Vector3f>
-pointsNearModel(const IcfModel& model, const std::vector<Eigen::Vector3f>& points,
-                const Eigen::Isometry3f& scene_to_model, float margin)
-{
+std::vector<Eigen::Vector3f> pointsNearModel(const IcfModel& model,
+                                             const std::vector<Eigen::Vector3f>& points,
+                                             const Eigen::Isometry3f& scene_to_model,
+                                             float margin) {
   const float r = model.radius() + margin;
   const Eigen::Vector3f& c = model.mesh().surfaceCentroid();
   std::vector<Eigen::Vector3f> near;
@@ -173,10 +153,8 @@ pointsNearModel(const IcfModel& model, const std::vector<Eigen::Vector3f>& point
 
 /** The fast strategy's start for the final refinement: the global search's best hypotheses,
  * each refined with exact faces on a subset, the best by the fine kernel. */
-PoseHypothesis
-fastSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& points,
-           const Eigen::Vector3f& camera, const IcfParams& params, int threads)
-{
+PoseHypothesis fastSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& points,
+                          const Eigen::Vector3f& camera, const IcfParams& params, int threads) {
   const std::vector<PoseHypothesis> hypotheses =
       globalSearch(model, points, camera, params.global, params.seed, threads);
   const std::size_t n = std::min(params.exact_candidates, hypotheses.size());
@@ -184,10 +162,10 @@ fastSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& points,
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
   for (int k = 0; k < static_cast<int>(n); ++k) {
     const auto i = static_cast<std::size_t>(k);
-    const std::vector<Eigen::Vector3f> subset = randomSubset(
-        pointsNearModel(model, points, hypotheses[i].scene_to_model,
-                        params.refinement.initial_inlier_distance),
-        params.candidate_points, params.seed + 1);
+    const std::vector<Eigen::Vector3f> subset =
+        randomSubset(pointsNearModel(model, points, hypotheses[i].scene_to_model,
+                                     params.refinement.initial_inlier_distance),
+                     params.candidate_points, params.seed + 1);
     refined[i].scene_to_model =
         refinePose(model.index(), subset, hypotheses[i].scene_to_model, params.refinement, 1)
             .scene_to_model;
@@ -204,11 +182,9 @@ fastSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& points,
 
 }  // namespace
 
-IcfResult
-estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
-             const Eigen::Vector3f& camera, const IcfParams& params,
-             const Eigen::Isometry3f* guess, const IterationCallback& callback)
-{
+IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
+                       const Eigen::Vector3f& camera, const IcfParams& params,
+                       const Eigen::Isometry3f* guess, const IterationCallback& callback) {
   params.validate();
   const auto start = std::chrono::steady_clock::now();
   IcfResult result;
@@ -235,10 +211,9 @@ estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_po
   auto refineAndMeasure = [&](const Eigen::Isometry3f& from, const IterationCallback& cb) {
     Outcome o;
     o.refined = refinePose(model.index(), points, from, params.refinement, threads, cb);
-    o.quality = measurePoseQuality(model, points, o.refined.scene_to_model, camera,
-                                   params.acceptance.inlier_distance,
-                                   params.acceptance.gate_distance, params.objective,
-                                   params.acceptance.visibility, threads);
+    o.quality = measurePoseQuality(
+        model, points, o.refined.scene_to_model, camera, params.acceptance.inlier_distance,
+        params.acceptance.gate_distance, params.objective, params.acceptance.visibility, threads);
     o.accepted = isAcceptable(o.quality, params.acceptance);
     return o;
   };
@@ -263,19 +238,16 @@ estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_po
   if (guess) {
     start_pose = *guess;
     result.method = "guess+icf";
-  }
-  else if (sac_only) {
+  } else if (sac_only) {
     start_pose = sacStart();
     result.method = "sac+icf";
-  }
-  else if (params.strategy == SearchStrategy::Thesis) {
+  } else if (params.strategy == SearchStrategy::Thesis) {
     const PoseHypothesis h =
         thesisSearch(model, points, params.thesis, params.objective, params.seed, threads);
     start_pose = h.scene_to_model;
     result.search_score = h.score;
     result.method = "thesis+icf";
-  }
-  else {
+  } else {
     const PoseHypothesis h = fastSearch(model, points, camera, params, threads);
     start_pose = h.scene_to_model;
     result.search_score = h.score;
@@ -288,8 +260,7 @@ estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_po
     if (result.sac_status == SacStatus::Found) {
       Outcome fallback = refineAndMeasure(sac_pose, callback);
       // Accepted beats rejected; between two rejected poses, more of the visible surface.
-      if (fallback.accepted ||
-          fallback.quality.surface_coverage > best.quality.surface_coverage) {
+      if (fallback.accepted || fallback.quality.surface_coverage > best.quality.surface_coverage) {
         best = fallback;
         result.method = "sac+icf";
       }

@@ -20,9 +20,8 @@ namespace {
 
 /** In double: in float the cross products of tiny faces underflow to denormals (a "unit"
  * normal of norm 0.3 after normalized()) and those of huge ones overflow (fuzz/, issue 7). */
-Eigen::Vector3d
-newellNormal(const std::vector<Eigen::Vector3f>& v, const std::vector<std::uint32_t>& poly)
-{
+Eigen::Vector3d newellNormal(const std::vector<Eigen::Vector3f>& v,
+                             const std::vector<std::uint32_t>& poly) {
   Eigen::Vector3d n = Eigen::Vector3d::Zero();
   for (std::size_t k = 0; k < poly.size(); ++k) {
     const Eigen::Vector3d a = v[poly[k]].cast<double>();
@@ -32,10 +31,8 @@ newellNormal(const std::vector<Eigen::Vector3f>& v, const std::vector<std::uint3
   return n;  // |n| = 2 * area for a planar polygon
 }
 
-bool
-isPlanar(const std::vector<Eigen::Vector3f>& v, const std::vector<std::uint32_t>& poly,
-         const Eigen::Vector3f& unit_normal, float tolerance)
-{
+bool isPlanar(const std::vector<Eigen::Vector3f>& v, const std::vector<std::uint32_t>& poly,
+              const Eigen::Vector3f& unit_normal, float tolerance) {
   float extent = 0.f;
   for (std::size_t k = 1; k < poly.size(); ++k)
     extent = std::max(extent, (v[poly[k]] - v[poly[0]]).norm());
@@ -46,10 +43,8 @@ isPlanar(const std::vector<Eigen::Vector3f>& v, const std::vector<std::uint32_t>
   return true;
 }
 
-bool
-isConvex(const std::vector<Eigen::Vector3f>& v, const std::vector<std::uint32_t>& poly,
-         const Eigen::Vector3f& unit_normal)
-{
+bool isConvex(const std::vector<Eigen::Vector3f>& v, const std::vector<std::uint32_t>& poly,
+              const Eigen::Vector3f& unit_normal) {
   const std::size_t n = poly.size();
   for (std::size_t k = 0; k < n; ++k) {
     const Eigen::Vector3f& a = v[poly[k]];
@@ -64,10 +59,9 @@ isConvex(const std::vector<Eigen::Vector3f>& v, const std::vector<std::uint32_t>
 /** Ear clipping in the polygon's Newell plane; returns triangles as index triples. Works for
  * simple (possibly concave) polygons; falls back to a fan if no ear is found (self-intersecting
  * input), so every vertex is still covered. */
-std::vector<std::vector<std::uint32_t>>
-earClip(const std::vector<Eigen::Vector3f>& v, std::vector<std::uint32_t> poly,
-        const Eigen::Vector3f& unit_normal)
-{
+std::vector<std::vector<std::uint32_t>> earClip(const std::vector<Eigen::Vector3f>& v,
+                                                std::vector<std::uint32_t> poly,
+                                                const Eigen::Vector3f& unit_normal) {
   std::vector<std::vector<std::uint32_t>> triangles;
   auto cross = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
     return (v[b] - v[a]).cross(v[c] - v[b]).dot(unit_normal);
@@ -107,9 +101,7 @@ earClip(const std::vector<Eigen::Vector3f>& v, std::vector<std::uint32_t> poly,
 }
 
 /** The polygon's vertex indices with consecutive repeats removed. */
-std::vector<std::uint32_t>
-distinctLoop(const std::vector<std::uint32_t>& in)
-{
+std::vector<std::uint32_t> distinctLoop(const std::vector<std::uint32_t>& in) {
   std::vector<std::uint32_t> out;
   for (std::uint32_t i : in)
     if (out.empty() || out.back() != i)
@@ -120,60 +112,56 @@ distinctLoop(const std::vector<std::uint32_t>& in)
 }
 
 /** One coordinate of any numeric PCL field type as a double; false for another type. */
-bool
-readCoordinate(const std::uint8_t* p, std::uint8_t datatype, double& v)
-{
+bool readCoordinate(const std::uint8_t* p, std::uint8_t datatype, double& v) {
   switch (datatype) {
-  case pcl::PCLPointField::INT8:
-    v = static_cast<std::int8_t>(*p);
-    return true;
-  case pcl::PCLPointField::UINT8:
-    v = *p;
-    return true;
-  case pcl::PCLPointField::INT16: {
-    std::int16_t x;
-    std::memcpy(&x, p, 2);
-    v = x;
-    return true;
-  }
-  case pcl::PCLPointField::UINT16: {
-    std::uint16_t x;
-    std::memcpy(&x, p, 2);
-    v = x;
-    return true;
-  }
-  case pcl::PCLPointField::INT32: {
-    std::int32_t x;
-    std::memcpy(&x, p, 4);
-    v = x;
-    return true;
-  }
-  case pcl::PCLPointField::UINT32: {
-    std::uint32_t x;
-    std::memcpy(&x, p, 4);
-    v = x;
-    return true;
-  }
-  case pcl::PCLPointField::FLOAT32: {
-    float x;
-    std::memcpy(&x, p, 4);
-    v = x;
-    return true;
-  }
-  case pcl::PCLPointField::FLOAT64:
-    std::memcpy(&v, p, 8);
-    return true;
-  default:
-    return false;
+    case pcl::PCLPointField::INT8:
+      v = static_cast<std::int8_t>(*p);
+      return true;
+    case pcl::PCLPointField::UINT8:
+      v = *p;
+      return true;
+    case pcl::PCLPointField::INT16: {
+      std::int16_t x;
+      std::memcpy(&x, p, 2);
+      v = x;
+      return true;
+    }
+    case pcl::PCLPointField::UINT16: {
+      std::uint16_t x;
+      std::memcpy(&x, p, 2);
+      v = x;
+      return true;
+    }
+    case pcl::PCLPointField::INT32: {
+      std::int32_t x;
+      std::memcpy(&x, p, 4);
+      v = x;
+      return true;
+    }
+    case pcl::PCLPointField::UINT32: {
+      std::uint32_t x;
+      std::memcpy(&x, p, 4);
+      v = x;
+      return true;
+    }
+    case pcl::PCLPointField::FLOAT32: {
+      float x;
+      std::memcpy(&x, p, 4);
+      v = x;
+      return true;
+    }
+    case pcl::PCLPointField::FLOAT64:
+      std::memcpy(&v, p, 8);
+      return true;
+    default:
+      return false;
   }
 }
 
 /** The vertices of any x, y, z field layout (float, double or integer: PLY files carry all of
  * them; pcl::fromPCLPointCloud2 would silently leave non-float coordinates at zero), checked
  * against the data actually present. */
-std::vector<Eigen::Vector3f>
-readVertices(const pcl::PolygonMesh& mesh, float scale)
-{
+std::vector<Eigen::Vector3f> readVertices(const pcl::PolygonMesh& mesh, float scale) {
   const pcl::PCLPointCloud2& cloud = mesh.cloud;
   const pcl::PCLPointField* axes[3];
   int a = 0;
@@ -214,17 +202,13 @@ readVertices(const pcl::PolygonMesh& mesh, float scale)
 
 }  // namespace
 
-std::size_t
-FaceMesh::countFacesWithVertices(std::uint32_t count) const
-{
+std::size_t FaceMesh::countFacesWithVertices(std::uint32_t count) const {
   return static_cast<std::size_t>(std::count_if(
       faces_.begin(), faces_.end(), [count](const Face& f) { return f.count == count; }));
 }
 
-void
-FaceMesh::addFace(const std::vector<std::uint32_t>& polygon, const Eigen::Vector3f& normal,
-                  float area)
-{
+void FaceMesh::addFace(const std::vector<std::uint32_t>& polygon, const Eigen::Vector3f& normal,
+                       float area) {
   Face face;
   face.first = static_cast<std::uint32_t>(indices_.size());
   face.count = static_cast<std::uint32_t>(polygon.size());
@@ -234,9 +218,7 @@ FaceMesh::addFace(const std::vector<std::uint32_t>& polygon, const Eigen::Vector
   faces_.push_back(face);
 }
 
-FaceMesh
-FaceMesh::build(const pcl::PolygonMesh& mesh, const FaceMeshOptions& options)
-{
+FaceMesh FaceMesh::build(const pcl::PolygonMesh& mesh, const FaceMeshOptions& options) {
   if (!(options.scale > 0.f) || !std::isfinite(options.scale))
     throw std::invalid_argument("FaceMeshOptions::scale must be a positive finite number");
   if (!(options.planarity_tolerance >= 0.f) || !(options.area_tolerance >= 0.f))
@@ -330,9 +312,7 @@ FaceMesh::build(const pcl::PolygonMesh& mesh, const FaceMeshOptions& options)
   return out;
 }
 
-void
-FaceMesh::finish()
-{
+void FaceMesh::finish() {
   min_ = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
   max_ = -min_;
   Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
@@ -352,9 +332,8 @@ FaceMesh::finish()
   centroid_ = (weighted / total_area_).cast<float>();
 }
 
-std::vector<SurfaceSample>
-sampleSurface(const FaceMesh& mesh, std::size_t count, std::uint64_t seed)
-{
+std::vector<SurfaceSample> sampleSurface(const FaceMesh& mesh, std::size_t count,
+                                         std::uint64_t seed) {
   std::vector<double> cumulative(mesh.size());
   double sum = 0.0;
   for (std::size_t f = 0; f < mesh.size(); ++f)
@@ -366,8 +345,8 @@ sampleSurface(const FaceMesh& mesh, std::size_t count, std::uint64_t seed)
   for (std::size_t s = 0; s < count; ++s) {
     const double pick = uniform(rng) * sum;
     const auto it = std::lower_bound(cumulative.begin(), cumulative.end(), pick);
-    const std::size_t f = std::min<std::size_t>(
-        static_cast<std::size_t>(it - cumulative.begin()), mesh.size() - 1);
+    const std::size_t f =
+        std::min<std::size_t>(static_cast<std::size_t>(it - cumulative.begin()), mesh.size() - 1);
     const Face& face = mesh.faces()[f];
     // Pick a fan triangle of the convex face by area, then a uniform point in it.
     std::vector<double> fan(face.count - 2);

@@ -8,8 +8,8 @@
 
 #include <algorithm>
 #include <array>
-#include <map>
 #include <cmath>
+#include <map>
 #include <numeric>
 #include <random>
 #include <sstream>
@@ -18,9 +18,7 @@
 namespace pcl {
 namespace icf {
 
-RefinementParams
-GlobalSearchParams::defaultFieldRefinement()
-{
+RefinementParams GlobalSearchParams::defaultFieldRefinement() {
   RefinementParams p;
   p.max_iterations = 12;
   p.initial_inlier_distance = 0.03f;
@@ -29,9 +27,7 @@ GlobalSearchParams::defaultFieldRefinement()
   return p;
 }
 
-void
-GlobalSearchParams::validate() const
-{
+void GlobalSearchParams::validate() const {
   auto fail = [](const char* field, double value, const char* rule) {
     std::ostringstream msg;
     msg << "GlobalSearchParams::" << field << " = " << value << ": " << rule;
@@ -60,9 +56,8 @@ GlobalSearchParams::validate() const
   field_refinement.validate();
 }
 
-std::vector<Eigen::Vector3f>
-randomSubset(const std::vector<Eigen::Vector3f>& points, std::size_t count, std::uint64_t seed)
-{
+std::vector<Eigen::Vector3f> randomSubset(const std::vector<Eigen::Vector3f>& points,
+                                          std::size_t count, std::uint64_t seed) {
   if (points.size() <= count)
     return points;
   std::vector<std::size_t> order(points.size());
@@ -82,24 +77,47 @@ randomSubset(const std::vector<Eigen::Vector3f>& points, std::size_t count, std:
   return subset;
 }
 
-double
-fieldKernelScore(const ClosestPointField& field, const std::vector<Eigen::Vector3f>& scene_points,
-                 const Eigen::Isometry3f& scene_to_model, float kernel)
-{
+double fieldKernelScore(const ClosestPointField& field,
+                        const std::vector<Eigen::Vector3f>& scene_points,
+                        const Eigen::Isometry3f& scene_to_model, float kernel) {
   double score = 0.0;
   for (const Eigen::Vector3f& x : scene_points)
     score += kernelScore(field.distance(scene_to_model * x), kernel);
   return score;
 }
 
-std::vector<SearchAnchor>
-translationAnchors(const std::vector<Eigen::Vector3f>& points, float model_radius,
-                   const GlobalSearchParams& params, std::uint64_t seed)
-{
-  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+Eigen::Vector3f robustCentroid(const std::vector<Eigen::Vector3f>& points) {
+  // The coordinate-wise median, then the mean of the points within 1.5 x the 90th-percentile
+  // distance (+1 cm) of it: the centroid of the object's points without the pull of a few
+  // stray points far away (a 1e5 m point among 2000 moves a plain mean by 50 m).
+  Eigen::Vector3f median;
+  std::vector<float> axis(points.size());
+  for (int a = 0; a < 3; ++a) {
+    for (std::size_t i = 0; i < points.size(); ++i)
+      axis[i] = points[i][a];
+    std::nth_element(axis.begin(), axis.begin() + static_cast<std::ptrdiff_t>(axis.size() / 2),
+                     axis.end());
+    median[a] = axis[axis.size() / 2];
+  }
+  for (std::size_t i = 0; i < points.size(); ++i)
+    axis[i] = (points[i] - median).norm();
+  const std::size_t q = axis.size() * 9 / 10;
+  std::nth_element(axis.begin(), axis.begin() + static_cast<std::ptrdiff_t>(q), axis.end());
+  const float keep = 1.5f * axis[q] + 0.01f;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  std::size_t count = 0;
   for (const auto& p : points)
-    centroid += p;
-  centroid /= static_cast<float>(points.size());
+    if ((p - median).norm() <= keep) {
+      sum += p.cast<double>();
+      ++count;
+    }
+  return count > 0 ? Eigen::Vector3f((sum / static_cast<double>(count)).cast<float>()) : median;
+}
+
+std::vector<SearchAnchor> translationAnchors(const std::vector<Eigen::Vector3f>& points,
+                                             float model_radius, const GlobalSearchParams& params,
+                                             std::uint64_t seed) {
+  const Eigen::Vector3f centroid = robustCentroid(points);
   // Spread: the 90th percentile of the distances from the centroid, so that a few outliers
   // (5% within +-5 cm along the ray in a Kinect cut-out) do not count as another object.
   std::vector<float> spread(points.size());
@@ -121,7 +139,9 @@ translationAnchors(const std::vector<Eigen::Vector3f>& points, float model_radiu
       return static_cast<long>(std::floor(x > -1e15f ? (x < 1e15f ? x : 1e15f) : -1e15f));
     };
     const std::array<long, 3> key{cell(p.x()), cell(p.y()), cell(p.z())};
-    auto& slot = cells[key];
+    // Not cells[key]: that value-initializes the pair, and Eigen's Vector3f() leaves its
+    // coordinates uninitialized (the anchors, and so the poses, changed from run to run).
+    auto& slot = cells.try_emplace(key, Eigen::Vector3f::Zero(), 0).first->second;
     slot.first += p;
     ++slot.second;
   }
@@ -145,9 +165,10 @@ translationAnchors(const std::vector<Eigen::Vector3f>& points, float model_radiu
     anchors.push_back(std::move(a));
   }
   if (anchors.size() > params.max_anchors) {  // keep the densest windows
-    std::stable_sort(anchors.begin(), anchors.end(), [](const SearchAnchor& a, const SearchAnchor& b) {
-      return a.subset.size() > b.subset.size();
-    });
+    std::stable_sort(anchors.begin(), anchors.end(),
+                     [](const SearchAnchor& a, const SearchAnchor& b) {
+                       return a.subset.size() > b.subset.size();
+                     });
     anchors.resize(params.max_anchors);
   }
   if (anchors.empty())
@@ -159,9 +180,8 @@ namespace {
 
 /** Model-frame centroid of the surface the camera sees along \a view (model frame), weighted
  * by projected area; the surface centroid when nothing faces the camera. */
-Eigen::Vector3f
-visibleCentroid(const IcfModel& model, std::size_t samples, const Eigen::Vector3f& view)
-{
+Eigen::Vector3f visibleCentroid(const IcfModel& model, std::size_t samples,
+                                const Eigen::Vector3f& view) {
   Eigen::Vector3f sum = Eigen::Vector3f::Zero();
   float weight = 0.f;
   const std::size_t n = std::min(samples, model.samples().size());
@@ -175,10 +195,8 @@ visibleCentroid(const IcfModel& model, std::size_t samples, const Eigen::Vector3
   return weight > 0.f ? Eigen::Vector3f(sum / weight) : model.mesh().surfaceCentroid();
 }
 
-bool
-isDistinct(const PoseHypothesis& h, const std::vector<PoseHypothesis>& kept, float rotation,
-           float translation)
-{
+bool isDistinct(const PoseHypothesis& h, const std::vector<PoseHypothesis>& kept, float rotation,
+                float translation) {
   for (const PoseHypothesis& k : kept) {
     const Eigen::Isometry3f delta = h.scene_to_model * k.scene_to_model.inverse();
     const float angle = Eigen::AngleAxisf(delta.linear()).angle();
@@ -191,20 +209,17 @@ isDistinct(const PoseHypothesis& h, const std::vector<PoseHypothesis>& kept, flo
 
 }  // namespace
 
-std::vector<PoseHypothesis>
-globalSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
-             const Eigen::Vector3f& camera, const GlobalSearchParams& params, std::uint64_t seed,
-             int threads)
-{
+std::vector<PoseHypothesis> globalSearch(const IcfModel& model,
+                                         const std::vector<Eigen::Vector3f>& scene_points,
+                                         const Eigen::Vector3f& camera,
+                                         const GlobalSearchParams& params, std::uint64_t seed,
+                                         int threads) {
   params.validate();
   if (scene_points.empty())
     return {};
   const std::vector<SearchAnchor> anchors =
       translationAnchors(scene_points, model.radius(), params, seed);
-  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
-  for (const auto& p : scene_points)
-    centroid += p;
-  centroid /= static_cast<float>(scene_points.size());
+  const Eigen::Vector3f centroid = robustCentroid(scene_points);
   Eigen::Vector3f view = centroid - camera;
   view = view.norm() > 1e-9f ? Eigen::Vector3f(view.normalized()) : Eigen::Vector3f::UnitZ();
 
@@ -237,9 +252,8 @@ globalSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_po
   }
   std::vector<std::size_t> order(coarse.size());
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return coarse[a].score > coarse[b].score;
-  });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return coarse[a].score > coarse[b].score; });
   std::vector<PoseHypothesis> kept;
   std::vector<std::size_t> kept_anchor;
   for (std::size_t i : order) {
@@ -264,8 +278,9 @@ globalSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_po
                            .scene_to_model;
     h.score = fieldKernelScore(model.field(), subset, h.scene_to_model, params.fine_kernel);
   }
-  std::stable_sort(kept.begin(), kept.end(),
-                   [](const PoseHypothesis& a, const PoseHypothesis& b) { return a.score > b.score; });
+  std::stable_sort(kept.begin(), kept.end(), [](const PoseHypothesis& a, const PoseHypothesis& b) {
+    return a.score > b.score;
+  });
   return kept;
 }
 

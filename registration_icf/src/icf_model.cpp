@@ -7,14 +7,12 @@
 namespace pcl {
 namespace icf {
 
-IcfModel::ConstPtr
-IcfModel::build(const pcl::PolygonMesh& mesh, const IcfModelParams& params)
-{
+IcfModel::ConstPtr IcfModel::build(const pcl::PolygonMesh& mesh, const IcfModelParams& params) {
   params.field.validate();
   if (params.surface_samples < 100 || params.surface_samples > 10000000)
-    throw std::invalid_argument("IcfModelParams::surface_samples = " +
-                                std::to_string(params.surface_samples) +
-                                ": must lie in [100, 1e7]");
+    throw std::invalid_argument(
+        "IcfModelParams::surface_samples = " + std::to_string(params.surface_samples) +
+        ": must lie in [100, 1e7]");
   std::shared_ptr<IcfModel> model(new IcfModel());
   model->mesh_ = std::make_unique<FaceMesh>(FaceMesh::build(mesh, params.mesh));
   model->index_ = std::make_unique<EmbreeClosestFaceIndex>(*model->mesh_);

@@ -14,9 +14,7 @@
 namespace pcl {
 namespace icf {
 
-void
-VisibilityParams::validate() const
-{
+void VisibilityParams::validate() const {
   auto fail = [](const char* field, double value, const char* rule) {
     std::ostringstream msg;
     msg << "VisibilityParams::" << field << " = " << value << ": " << rule;
@@ -30,10 +28,10 @@ VisibilityParams::validate() const
     fail("min_view_cosine", min_view_cosine, "must lie in [0, 1)");
 }
 
-std::vector<std::size_t>
-visibleSamples(const IcfModel& model, const Eigen::Isometry3f& model_to_scene,
-               const Eigen::Vector3f& camera, const VisibilityParams& params)
-{
+std::vector<std::size_t> visibleSamples(const IcfModel& model,
+                                        const Eigen::Isometry3f& model_to_scene,
+                                        const Eigen::Vector3f& camera,
+                                        const VisibilityParams& params) {
   params.validate();
   // View frame: z from the camera towards the model's centre.
   const Eigen::Vector3f centre = model_to_scene * model.mesh().surfaceCentroid();
@@ -80,13 +78,12 @@ visibleSamples(const IcfModel& model, const Eigen::Isometry3f& model_to_scene,
   return visible;
 }
 
-PoseQuality
-measurePoseQuality(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
-                   const Eigen::Isometry3f& scene_to_model, const Eigen::Vector3f& camera,
-                   float inlier_distance, float gate_distance,
-                   const ThesisObjectiveParams& objective, const VisibilityParams& visibility,
-                   int threads)
-{
+PoseQuality measurePoseQuality(const IcfModel& model,
+                               const std::vector<Eigen::Vector3f>& scene_points,
+                               const Eigen::Isometry3f& scene_to_model,
+                               const Eigen::Vector3f& camera, float inlier_distance,
+                               float gate_distance, const ThesisObjectiveParams& objective,
+                               const VisibilityParams& visibility, int threads) {
   PoseQuality q;
   if (scene_points.empty())
     return q;
@@ -96,7 +93,8 @@ measurePoseQuality(const IcfModel& model, const std::vector<Eigen::Vector3f>& sc
 #pragma omp parallel for schedule(static) num_threads(std::max(1, threads))
   for (int i = 0; i < n; ++i)
     distances[static_cast<std::size_t>(i)] =
-        model.index().closestFace(scene_to_model * scene_points[static_cast<std::size_t>(i)], search)
+        model.index()
+            .closestFace(scene_to_model * scene_points[static_cast<std::size_t>(i)], search)
             .distance;  // +inf beyond the search radius: f = 0 there anyway
   double sq = 0.0;
   for (float d : distances) {

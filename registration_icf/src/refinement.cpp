@@ -16,9 +16,7 @@
 namespace pcl {
 namespace icf {
 
-void
-RefinementParams::validate() const
-{
+void RefinementParams::validate() const {
   auto fail = [](const char* field, double value, const char* rule) {
     std::ostringstream msg;
     msg << "RefinementParams::" << field << " = " << value << ": " << rule;
@@ -42,11 +40,9 @@ RefinementParams::validate() const
     fail("*_epsilon", -1, "must be >= 0");
 }
 
-int
-solveDampedDegeneracyAware(const Eigen::Matrix<double, 6, 6>& H,
-                           const Eigen::Matrix<double, 6, 1>& g, double damping, double ratio,
-                           Eigen::Matrix<double, 6, 1>& x)
-{
+int solveDampedDegeneracyAware(const Eigen::Matrix<double, 6, 6>& H,
+                               const Eigen::Matrix<double, 6, 1>& g, double damping, double ratio,
+                               Eigen::Matrix<double, 6, 1>& x) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(H);
   const auto& values = eig.eigenvalues();  // ascending
   const double largest = values[5];
@@ -73,9 +69,7 @@ struct NormalEquations {
   Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
   double weighted_sq = 0.0, weight = 0.0;
 
-  void
-  add(const NormalEquations& o)
-  {
+  void add(const NormalEquations& o) {
     H += o.H;
     g += o.g;
     weighted_sq += o.weighted_sq;
@@ -85,10 +79,8 @@ struct NormalEquations {
 
 /** One point's contribution, given its closest point \a c and residual direction \a u in the
  * model frame; the rotation is about \a pivot. */
-void
-accumulate(const Eigen::Vector3f& y, const Eigen::Vector3f& c, const Eigen::Vector3f& u,
-           const Eigen::Vector3f& pivot, float radius, double scale, NormalEquations& ne)
-{
+void accumulate(const Eigen::Vector3f& y, const Eigen::Vector3f& c, const Eigen::Vector3f& u,
+                const Eigen::Vector3f& pivot, float radius, double scale, NormalEquations& ne) {
   const double r = u.dot(y - c);
   const double t = r / radius;
   if (!(std::abs(t) < 1.0))
@@ -108,19 +100,17 @@ accumulate(const Eigen::Vector3f& y, const Eigen::Vector3f& c, const Eigen::Vect
 /** The iteration shared by the exact and the field refinement. \a correspond(y, radius, c, u)
  * fills the closest point and residual direction of a model-frame point, or returns false. */
 template <typename Correspond>
-RefinementResult
-iterate(const Correspond& correspond, const Eigen::Vector3f& pivot, double scale,
-        const std::vector<Eigen::Vector3f>& scene_points, const Eigen::Isometry3f& initial,
-        const RefinementParams& params, int threads, const IterationCallback& callback)
-{
+RefinementResult iterate(const Correspond& correspond, const Eigen::Vector3f& pivot, double scale,
+                         const std::vector<Eigen::Vector3f>& scene_points,
+                         const Eigen::Isometry3f& initial, const RefinementParams& params,
+                         int threads, const IterationCallback& callback) {
   params.validate();
   RefinementResult result;
   result.scene_to_model = initial;
   if (scene_points.empty())
     return result;
   const std::size_t stride =
-      params.max_points > 0 ? std::max<std::size_t>(1, scene_points.size() / params.max_points)
-                            : 1;
+      params.max_points > 0 ? std::max<std::size_t>(1, scene_points.size() / params.max_points) : 1;
   const int n = static_cast<int>((scene_points.size() + stride - 1) / stride);
   float radius = params.initial_inlier_distance;
   double previous_fitness = std::numeric_limits<double>::infinity();
@@ -177,19 +167,16 @@ iterate(const Correspond& correspond, const Eigen::Vector3f& pivot, double scale
   return result;
 }
 
-double
-modelScale(const FaceMesh& mesh)
-{
+double modelScale(const FaceMesh& mesh) {
   return std::max(1e-3, 0.5 * static_cast<double>((mesh.boundsMax() - mesh.boundsMin()).norm()));
 }
 
 }  // namespace
 
-RefinementResult
-refinePose(const ClosestFaceQuery& index, const std::vector<Eigen::Vector3f>& scene_points,
-           const Eigen::Isometry3f& initial, const RefinementParams& params, int threads,
-           const IterationCallback& callback)
-{
+RefinementResult refinePose(const ClosestFaceQuery& index,
+                            const std::vector<Eigen::Vector3f>& scene_points,
+                            const Eigen::Isometry3f& initial, const RefinementParams& params,
+                            int threads, const IterationCallback& callback) {
   const auto correspond = [&index](const Eigen::Vector3f& y, float radius, Eigen::Vector3f& c,
                                    Eigen::Vector3f& u) {
     const ClosestFace hit = index.closestFace(y, radius);
@@ -199,15 +186,14 @@ refinePose(const ClosestFaceQuery& index, const std::vector<Eigen::Vector3f>& sc
     u = residualDirection(index.mesh(), y, hit);
     return true;
   };
-  return iterate(correspond, index.mesh().surfaceCentroid(), modelScale(index.mesh()),
-                 scene_points, initial, params, threads, callback);
+  return iterate(correspond, index.mesh().surfaceCentroid(), modelScale(index.mesh()), scene_points,
+                 initial, params, threads, callback);
 }
 
-RefinementResult
-refinePoseOnField(const ClosestPointField& field, const Eigen::Vector3f& pivot, double scale,
-                  const std::vector<Eigen::Vector3f>& scene_points,
-                  const Eigen::Isometry3f& initial, const RefinementParams& params)
-{
+RefinementResult refinePoseOnField(const ClosestPointField& field, const Eigen::Vector3f& pivot,
+                                   double scale, const std::vector<Eigen::Vector3f>& scene_points,
+                                   const Eigen::Isometry3f& initial,
+                                   const RefinementParams& params) {
   const auto correspond = [&field](const Eigen::Vector3f& y, float radius, Eigen::Vector3f& c,
                                    Eigen::Vector3f& u) {
     c = field.closestPoint(y);

@@ -9,9 +9,7 @@
 namespace pcl {
 namespace icf {
 
-Eigen::Quaternionf
-randomRotation(std::mt19937_64& rng)
-{
+Eigen::Quaternionf randomRotation(std::mt19937_64& rng) {
   std::normal_distribution<double> g;
   Eigen::Vector4d q;
   do
@@ -22,10 +20,8 @@ randomRotation(std::mt19937_64& rng)
                             static_cast<float>(q[2]), static_cast<float>(q[3]));
 }
 
-std::vector<Eigen::Quaternionf>
-uniformRotations(std::size_t count, std::uint64_t seed)
-{
-  constexpr double kPhi = 1.4142135623730951;   // sqrt(2)
+std::vector<Eigen::Quaternionf> uniformRotations(std::size_t count, std::uint64_t seed) {
+  constexpr double kPhi = 1.4142135623730951;    // sqrt(2)
   constexpr double kPsi = 1.533751168755204288;  // root of psi^4 = psi + 4
   constexpr double kTwoPi = 6.283185307179586;
   std::mt19937_64 rng(seed);

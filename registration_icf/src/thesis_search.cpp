@@ -13,9 +13,7 @@
 namespace pcl {
 namespace icf {
 
-void
-ThesisSearchParams::validate() const
-{
+void ThesisSearchParams::validate() const {
   auto fail = [](const char* field, double value, const char* rule) {
     std::ostringstream msg;
     msg << "ThesisSearchParams::" << field << " = " << value << ": " << rule;
@@ -47,9 +45,7 @@ struct SearchPose {
   double score = 0.0;
 };
 
-Eigen::Isometry3f
-sceneToModel(const SearchPose& p, const Eigen::Vector3f& model_centre)
-{
+Eigen::Isometry3f sceneToModel(const SearchPose& p, const Eigen::Vector3f& model_centre) {
   const Eigen::Matrix3f R = (Eigen::AngleAxisf(p.angles.z(), Eigen::Vector3f::UnitZ()) *
                              Eigen::AngleAxisf(p.angles.y(), Eigen::Vector3f::UnitY()) *
                              Eigen::AngleAxisf(p.angles.x(), Eigen::Vector3f::UnitX()))
@@ -61,16 +57,12 @@ sceneToModel(const SearchPose& p, const Eigen::Vector3f& model_centre)
 }
 
 class Evaluator {
-public:
+ public:
   Evaluator(const IcfModel& model, const std::vector<Eigen::Vector3f>& points,
             const ThesisSearchParams& params, const ThesisObjectiveParams& objective)
-  : model_(model), points_(points), params_(params), objective_(objective)
-  {
-  }
+      : model_(model), points_(points), params_(params), objective_(objective) {}
 
-  double
-  operator()(const SearchPose& pose) const
-  {
+  double operator()(const SearchPose& pose) const {
     const Eigen::Isometry3f T = sceneToModel(pose, model_.mesh().surfaceCentroid());
     std::vector<Eigen::Vector3f> moved(points_.size());
     for (std::size_t i = 0; i < points_.size(); ++i)
@@ -79,8 +71,8 @@ public:
       return thesisObjective(
           moved, [this](const Eigen::Vector3f& x) { return model_.field().distance(x); },
           objective_);
-    const float radius = std::max(objective_.cutoff / objective_.far_factor,
-                                  objective_.early_exit_distance) * 1.01f;
+    const float radius =
+        std::max(objective_.cutoff / objective_.far_factor, objective_.early_exit_distance) * 1.01f;
     return thesisObjective(
         moved,
         [this, radius](const Eigen::Vector3f& x) {
@@ -89,7 +81,7 @@ public:
         objective_);
   }
 
-private:
+ private:
   const IcfModel& model_;
   const std::vector<Eigen::Vector3f>& points_;
   const ThesisSearchParams& params_;
@@ -98,11 +90,10 @@ private:
 
 }  // namespace
 
-PoseHypothesis
-thesisSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
-             const ThesisSearchParams& params, const ThesisObjectiveParams& objective,
-             std::uint64_t seed, int threads)
-{
+PoseHypothesis thesisSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
+                            const ThesisSearchParams& params,
+                            const ThesisObjectiveParams& objective, std::uint64_t seed,
+                            int threads) {
   params.validate();
   objective.validate();
   PoseHypothesis out;
@@ -137,8 +128,7 @@ thesisSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_po
   for (int it1 = 0; it1 < params.outer_iterations; ++it1) {
     if (!translation_stuck) {
       sigma_t = std::max(params.min_translation_sigma, sigma_t - params.translation_sigma_step);
-    }
-    else {
+    } else {
       sigma_t = params.restart_translation_sigma;
       best_xyz = randomTranslation();
       best_transl.push_back(best);
@@ -197,16 +187,15 @@ thesisSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_po
       translation_stalls = round_best.score > best.score ? 0 : translation_stalls + 1;
       best = round_best;
       best_xyz = best.t;
-    }
-    else {
+    } else {
       ++translation_stalls;
     }
     translation_stuck = translation_stalls >= params.stall_limit && best.score > 0.0;
     best_transl.push_back(best);
   }
-  const SearchPose final_best = *std::max_element(
-      best_transl.begin(), best_transl.end(),
-      [](const SearchPose& a, const SearchPose& b) { return a.score < b.score; });
+  const SearchPose final_best =
+      *std::max_element(best_transl.begin(), best_transl.end(),
+                        [](const SearchPose& a, const SearchPose& b) { return a.score < b.score; });
   out.scene_to_model = sceneToModel(final_best, model.mesh().surfaceCentroid());
   out.score = final_best.score;
   return out;

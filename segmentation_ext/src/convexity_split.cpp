@@ -16,9 +16,7 @@ namespace pcl {
 namespace icf {
 namespace segmentation {
 
-void
-ConvexitySplitParams::validate() const
-{
+void ConvexitySplitParams::validate() const {
   auto fail = [](const char* field, double value) {
     std::ostringstream msg;
     msg << "ConvexitySplitParams::" << field << " = " << value << ": must be positive and finite";
@@ -32,10 +30,9 @@ ConvexitySplitParams::validate() const
     fail("concavity_tolerance_deg (< 90)", concavity_tolerance_deg);
 }
 
-std::vector<pcl::PointIndices>
-splitByConvexity(const pcl::PointCloud<pcl::PointXYZRGBA>& cloud, const pcl::PointIndices& cluster,
-                 const ConvexitySplitParams& params)
-{
+std::vector<pcl::PointIndices> splitByConvexity(const pcl::PointCloud<pcl::PointXYZRGBA>& cloud,
+                                                const pcl::PointIndices& cluster,
+                                                const ConvexitySplitParams& params) {
   params.validate();
   auto points = pcl::make_shared<pcl::PointCloud<pcl::PointXYZRGBA>>();
   points->reserve(cluster.indices.size());
@@ -79,9 +76,10 @@ splitByConvexity(const pcl::PointCloud<pcl::PointXYZRGBA>& cloud, const pcl::Poi
   for (auto& kv : segments)
     if (kv.second.indices.size() >= params.min_segment_points)
       out.push_back(std::move(kv.second));
-  std::stable_sort(out.begin(), out.end(), [](const pcl::PointIndices& a, const pcl::PointIndices& b) {
-    return a.indices.size() > b.indices.size();
-  });
+  std::stable_sort(out.begin(), out.end(),
+                   [](const pcl::PointIndices& a, const pcl::PointIndices& b) {
+                     return a.indices.size() > b.indices.size();
+                   });
   if (out.empty())
     return {cluster};
   return out;

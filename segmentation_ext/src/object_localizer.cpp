@@ -191,16 +191,15 @@ ClusterLocalization judgeCluster(const SceneView& view, const ViewGrid& grid,
     if (!single_object) {
       const std::int64_t b = grid.bin(x);
       const auto it = footprint.depth.find(b);
-      if (!footprint.solid.count(b) || it == footprint.depth.end() ||
-          grid.depthOf(x) < it->second)
+      if (!footprint.solid.count(b) || it == footprint.depth.end() || grid.depthOf(x) < it->second)
         continue;
     }
     if (model.index().closestFace(scene_to_model * x, params.gate_distance).distance >
         params.gate_distance)
       ++c.gate_far_points;
   }
-  const double allowed = std::max<double>(params.gate_max_far_points,
-                                          params.gate_max_far_fraction * points.size());
+  const double allowed =
+      std::max<double>(params.gate_max_far_points, params.gate_max_far_fraction * points.size());
   c.gate_passed = !params.thesis_gate || c.gate_far_points <= allowed;
   c.boundary_continuation = boundaryContinuation(footprint, grid, params.boundary_tolerance);
 
@@ -238,10 +237,8 @@ ClusterLocalization judgeCluster(const SceneView& view, const ViewGrid& grid,
 
 /** The same test as the global search's merged-cluster switch: 10% of the points farther from
  * their centroid than merged_cluster_ratio x the model's radius. */
-bool
-spreadsWiderThanModel(const SceneView& view, const pcl::PointIndices& cluster,
-                      const IcfModel& model, const LocalizerParams& params)
-{
+bool spreadsWiderThanModel(const SceneView& view, const pcl::PointIndices& cluster,
+                           const IcfModel& model, const LocalizerParams& params) {
   std::vector<Eigen::Vector3f> points;
   for (const auto i : cluster.indices)
     points.push_back(view.points[static_cast<std::size_t>(i)]);
@@ -259,9 +256,7 @@ spreadsWiderThanModel(const SceneView& view, const pcl::PointIndices& cluster,
   return spread[q] > params.icf.global.merged_cluster_ratio * model.radius();
 }
 
-pcl::PointCloud<pcl::PointXYZRGBA>
-colouredCloud(const SceneView& view)
-{
+pcl::PointCloud<pcl::PointXYZRGBA> colouredCloud(const SceneView& view) {
   pcl::PointCloud<pcl::PointXYZRGBA> cloud;
   cloud.resize(view.points.size());
   for (std::size_t i = 0; i < view.points.size(); ++i) {
@@ -360,14 +355,14 @@ Localization localizeInView(const SceneView& view, TabletopSegmentation segmenta
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (m > 1)
     for (int j = 0; j < m; ++j) {
       const auto k = static_cast<std::size_t>(which[static_cast<std::size_t>(j)]);
-      out.clusters[k] = judgeCluster(view, grid, clusters[k], model, params,
-                                     m == 1 ? threads : 1, expected, single[k]);
+      out.clusters[k] = judgeCluster(view, grid, clusters[k], model, params, m == 1 ? threads : 1,
+                                     expected, single[k]);
     }
   };
   std::vector<int> first, second;
   for (std::size_t k = 0; k < clusters.size(); ++k) {
-    const bool has_segments = std::find(parents.begin(), parents.end(), static_cast<int>(k)) !=
-                              parents.end();
+    const bool has_segments =
+        std::find(parents.begin(), parents.end(), static_cast<int>(k)) != parents.end();
     (has_segments ? second : first).push_back(static_cast<int>(k));
   }
   judge(first);
@@ -379,8 +374,7 @@ Localization localizeInView(const SceneView& view, TabletopSegmentation segmenta
     if (segment_accepted) {
       out.clusters[static_cast<std::size_t>(k)].indices = clusters[static_cast<std::size_t>(k)];
       out.clusters[static_cast<std::size_t>(k)].reason = "not searched: a segment was accepted";
-    }
-    else
+    } else
       retry.push_back(k);
   }
   judge(retry);

@@ -20,22 +20,22 @@ namespace icf {
 struct ClosestFace {
   Eigen::Vector3f point = Eigen::Vector3f::Zero();  ///< closest point on the mesh (mesh frame)
   float distance = std::numeric_limits<float>::infinity();  ///< |query - point|, mesh units
-  int face = -1;                                             ///< index into FaceMesh::faces()
-  FaceFeature feature = FaceFeature::Interior;               ///< interior, edge or vertex
+  int face = -1;                                            ///< index into FaceMesh::faces()
+  FaceFeature feature = FaceFeature::Interior;              ///< interior, edge or vertex
   int feature_index = -1;  ///< edge or vertex index within the face (see ClosestPointOnFace)
 
   bool found() const { return face >= 0; }
 };
 
 /** \brief Exact closest point on face \a f of \a mesh to \a p. */
-ClosestPointOnFace<float>
-closestPointOnMeshFace(const FaceMesh& mesh, std::size_t f, const Eigen::Vector3f& p);
+ClosestPointOnFace<float> closestPointOnMeshFace(const FaceMesh& mesh, std::size_t f,
+                                                 const Eigen::Vector3f& p);
 
 /** \brief Unit direction along which the point-to-face residual is measured (doc/icf.md eq. 6):
  * the face normal, signed towards \a p, when the closest point is inside the face or \a p lies
  * on the surface; (p - c) / |p - c| on an edge or at a vertex. */
-Eigen::Vector3f
-residualDirection(const FaceMesh& mesh, const Eigen::Vector3f& p, const ClosestFace& closest);
+Eigen::Vector3f residualDirection(const FaceMesh& mesh, const Eigen::Vector3f& p,
+                                  const ClosestFace& closest);
 
 /** \brief Closest-face queries on one FaceMesh: a small interface with an exact brute-force
  * reference and an accelerated index behind it.
@@ -43,7 +43,7 @@ residualDirection(const FaceMesh& mesh, const Eigen::Vector3f& p, const ClosestF
  * Implementations keep a reference to the mesh: it must outlive them. Queries are const and
  * safe to run from several threads at once. */
 class ClosestFaceQuery {
-public:
+ public:
   using Ptr = std::shared_ptr<ClosestFaceQuery>;
   using ConstPtr = std::shared_ptr<const ClosestFaceQuery>;
 
@@ -55,23 +55,23 @@ public:
   /** \brief Exact closest face to \a p among faces within \a max_distance (mesh units); a
    * smaller radius makes the query faster. Ties go to the lowest face index in the brute
    * force; the index returns one of the tied faces with the same distance. */
-  virtual ClosestFace
-  closestFace(const Eigen::Vector3f& p,
-              float max_distance = std::numeric_limits<float>::infinity()) const = 0;
+  virtual ClosestFace closestFace(
+      const Eigen::Vector3f& p,
+      float max_distance = std::numeric_limits<float>::infinity()) const = 0;
 
   const FaceMesh& mesh() const { return mesh_; }
 
-protected:
+ protected:
   const FaceMesh& mesh_;
 };
 
 /** \brief Exact reference: tests every face. O(faces) a query; for tests and tiny meshes. */
 class BruteForceClosestFace : public ClosestFaceQuery {
-public:
+ public:
   using ClosestFaceQuery::ClosestFaceQuery;
-  ClosestFace
-  closestFace(const Eigen::Vector3f& p,
-              float max_distance = std::numeric_limits<float>::infinity()) const override;
+  ClosestFace closestFace(
+      const Eigen::Vector3f& p,
+      float max_distance = std::numeric_limits<float>::infinity()) const override;
 };
 
 /** \brief Exact and accelerated: an Embree 3 BVH over the faces' bounding boxes, traversed by a
@@ -79,23 +79,22 @@ public:
  * closest-point-on-face in the callback. Same answers as BruteForceClosestFace (tested). Builds
  * in O(faces log faces); about 1-2 million queries per second and thread on 100k faces. */
 class EmbreeClosestFaceIndex : public ClosestFaceQuery {
-public:
+ public:
   /** \throws std::runtime_error when Embree cannot create its device or scene. */
   explicit EmbreeClosestFaceIndex(const FaceMesh& mesh);
   ~EmbreeClosestFaceIndex() override;
 
-  ClosestFace
-  closestFace(const Eigen::Vector3f& p,
-              float max_distance = std::numeric_limits<float>::infinity()) const override;
+  ClosestFace closestFace(
+      const Eigen::Vector3f& p,
+      float max_distance = std::numeric_limits<float>::infinity()) const override;
 
-private:
+ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 
 /** \brief The default exact index for \a mesh (Embree). */
-ClosestFaceQuery::Ptr
-makeClosestFaceIndex(const FaceMesh& mesh);
+ClosestFaceQuery::Ptr makeClosestFaceIndex(const FaceMesh& mesh);
 
 }  // namespace icf
 }  // namespace pcl

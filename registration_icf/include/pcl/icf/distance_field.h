@@ -49,7 +49,7 @@ struct DistanceFieldParams {
  * Immutable after construction; lookups are const and thread-safe. Does not keep a reference
  * to the mesh or the index. */
 class ClosestPointField {
-public:
+ public:
   using Ptr = std::shared_ptr<ClosestPointField>;
   using ConstPtr = std::shared_ptr<const ClosestPointField>;
 
@@ -60,14 +60,12 @@ public:
    * in cells where the closest point is continuous, the trilinear distance in cells that
    * straddle a medial axis (where interpolating closest points from opposite sides would put
    * c~ in mid-air). */
-  float
-  distance(const Eigen::Vector3f& p) const;
+  float distance(const Eigen::Vector3f& p) const;
 
   /** \brief Interpolated closest point on the mesh to \a p. Meaningful where the closest
    * point is continuous (near the surface, on its convex side); across a medial axis it is a
    * blend of points on different faces. */
-  Eigen::Vector3f
-  closestPoint(const Eigen::Vector3f& p) const;
+  Eigen::Vector3f closestPoint(const Eigen::Vector3f& p) const;
 
   float cellSize() const { return cell_; }
   const Eigen::Vector3f& origin() const { return origin_; }
@@ -80,7 +78,7 @@ public:
   /** \brief Share of cells that straddle a medial axis (answered by trilinear distance). */
   double medialCellRatio() const;
 
-private:
+ private:
   struct Cell {
     int i[3];
     float t[3];
@@ -94,8 +92,8 @@ private:
   Eigen::Vector3f origin_ = Eigen::Vector3f::Zero();
   Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();  // nodes per axis
   float cell_ = 0.f, inv_cell_ = 0.f;
-  std::vector<float> nodes_;      // closest points, xyz interleaved, x fastest
-  std::vector<float> distances_;  // exact distance at each node
+  std::vector<float> nodes_;          // closest points, xyz interleaved, x fastest
+  std::vector<float> distances_;      // exact distance at each node
   std::vector<std::uint8_t> medial_;  // per cell (indexed by its lowest node): 1 = straddles
 };
 

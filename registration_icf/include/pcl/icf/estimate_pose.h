@@ -28,10 +28,8 @@ enum class SearchStrategy {
 };
 
 /** \brief Parse "fast" / "thesis"; throws std::invalid_argument otherwise. */
-SearchStrategy
-parseSearchStrategy(const std::string& name);
-std::string
-toString(SearchStrategy strategy);
+SearchStrategy parseSearchStrategy(const std::string& name);
+std::string toString(SearchStrategy strategy);
 
 /** \brief When the feature-based sample-consensus alignment (sample_consensus_alignment.h)
  * runs inside estimatePose. It never runs when an initial guess is given. */
@@ -43,10 +41,8 @@ enum class FallbackPolicy {
 };
 
 /** \brief Parse "off" / "auto" / "always"; throws std::invalid_argument otherwise. */
-FallbackPolicy
-parseFallbackPolicy(const std::string& name);
-std::string
-toString(FallbackPolicy policy);
+FallbackPolicy parseFallbackPolicy(const std::string& name);
+std::string toString(FallbackPolicy policy);
 
 /** \brief When a pose is accepted (hasConverged() is true). Lengths in scene units. */
 struct AcceptanceParams {
@@ -105,8 +101,7 @@ enum class IcfStatus {
   TooFewPoints,  ///< fewer finite scene points than needed (see IcfResult::points)
   NoModel,       ///< no mesh was given
 };
-std::string
-toString(IcfStatus status);
+std::string toString(IcfStatus status);
 
 /** \brief The result of estimatePose / IterativeClosestFace::getResult. */
 struct IcfResult {
@@ -115,12 +110,12 @@ struct IcfResult {
   Eigen::Matrix4f scene_to_model = Eigen::Matrix4f::Identity();
   /** The model's pose in the scene (model frame -> scene frame): the inverse. */
   Eigen::Matrix4f object_pose = Eigen::Matrix4f::Identity();
-  PoseQuality quality;           ///< measured at the final pose with exact distances
-  std::string method;            ///< "fast+icf", "thesis+icf", "sac+icf", "guess+icf"
+  PoseQuality quality;  ///< measured at the final pose with exact distances
+  std::string method;   ///< "fast+icf", "thesis+icf", "sac+icf", "guess+icf"
   int refinement_iterations = 0;
   bool refinement_converged = false;
-  std::size_t points = 0;        ///< finite scene points used
-  double search_score = 0.0;     ///< the search's own score of its best hypothesis
+  std::size_t points = 0;     ///< finite scene points used
+  double search_score = 0.0;  ///< the search's own score of its best hypothesis
   /** The SampleConsensus fallback ran (policy Always, or Auto after a rejection), whether or
    * not its pose was kept (method says which was). */
   bool fallback_ran = false;
@@ -154,14 +149,13 @@ constexpr float kMaxPointCoordinate = 1e6f;
  * rotation), which is rarely accepted. The model's features are built on first use and cached
  * (cachedSacModel); SAC runs are serialised process-wide (PCL's aligners use rand()).
  * Deterministic for params.seed and params.sac.seed and independent of params.threads. */
-IcfResult
-estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
-             const Eigen::Vector3f& camera, const IcfParams& params,
-             const Eigen::Isometry3f* guess = nullptr, const IterationCallback& callback = {});
+IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
+                       const Eigen::Vector3f& camera, const IcfParams& params,
+                       const Eigen::Isometry3f* guess = nullptr,
+                       const IterationCallback& callback = {});
 
 /** \brief Apply the acceptance rule to a measured quality. */
-bool
-isAcceptable(const PoseQuality& quality, const AcceptanceParams& params);
+bool isAcceptable(const PoseQuality& quality, const AcceptanceParams& params);
 
 }  // namespace icf
 }  // namespace pcl

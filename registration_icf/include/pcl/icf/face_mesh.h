@@ -21,7 +21,7 @@ namespace icf {
  * of range, non-finite coordinates in every face, or nothing left after degenerate faces are
  * dropped. The message names what is wrong. */
 class InvalidMeshError : public std::invalid_argument {
-public:
+ public:
   using std::invalid_argument::invalid_argument;
 };
 
@@ -36,12 +36,12 @@ struct Face {
 
 /** \brief What FaceMesh::build kept and dropped, for the caller to report. */
 struct FaceMeshReport {
-  std::size_t input_polygons = 0;       ///< polygons in the PolygonMesh
-  std::size_t kept_faces = 0;           ///< faces kept as they were
+  std::size_t input_polygons = 0;         ///< polygons in the PolygonMesh
+  std::size_t kept_faces = 0;             ///< faces kept as they were
   std::size_t triangulated_polygons = 0;  ///< non-planar or concave polygons split in triangles
-  std::size_t degenerate_dropped = 0;   ///< fewer than 3 distinct vertices, or zero area
-  std::size_t duplicate_dropped = 0;    ///< same vertex set as an earlier face
-  std::size_t nonfinite_dropped = 0;    ///< a vertex with a NaN or Inf coordinate
+  std::size_t degenerate_dropped = 0;     ///< fewer than 3 distinct vertices, or zero area
+  std::size_t duplicate_dropped = 0;      ///< same vertex set as an earlier face
+  std::size_t nonfinite_dropped = 0;      ///< a vertex with a NaN or Inf coordinate
 };
 
 /** \brief Options of FaceMesh::build. */
@@ -64,7 +64,7 @@ struct FaceMeshOptions {
  * report(); unreferenced vertices are kept but never queried. Immutable after construction,
  * so it is safe to share between threads. */
 class FaceMesh {
-public:
+ public:
   using Ptr = std::shared_ptr<FaceMesh>;
   using ConstPtr = std::shared_ptr<const FaceMesh>;
 
@@ -78,8 +78,7 @@ public:
 
   std::size_t size() const { return faces_.size(); }
   /** \brief Vertex \a k (0 <= k < count) of face \a f. */
-  const Eigen::Vector3f& faceVertex(std::size_t f, std::size_t k) const
-  {
+  const Eigen::Vector3f& faceVertex(std::size_t f, std::size_t k) const {
     return vertices_[indices_[faces_[f].first + k]];
   }
   /** \brief Total surface area in squared mesh units. */
@@ -92,7 +91,7 @@ public:
   /** \brief Number of faces with 3, 4 and more vertices. */
   std::size_t countFacesWithVertices(std::uint32_t count) const;
 
-private:
+ private:
   FaceMesh() = default;
   void addFace(const std::vector<std::uint32_t>& polygon, const Eigen::Vector3f& normal,
                float area);
@@ -114,8 +113,8 @@ struct SurfaceSample {
   Eigen::Vector3f normal;
   std::uint32_t face;
 };
-std::vector<SurfaceSample>
-sampleSurface(const FaceMesh& mesh, std::size_t count, std::uint64_t seed);
+std::vector<SurfaceSample> sampleSurface(const FaceMesh& mesh, std::size_t count,
+                                         std::uint64_t seed);
 
 }  // namespace icf
 }  // namespace pcl

@@ -67,15 +67,19 @@ struct PoseHypothesis {
  * through the closest-point field with the kernel of eq. 4. The best distinct hypotheses are
  * refined on the field and re-scored with a finer kernel. Returns them best first.
  * Deterministic for a seed; independent of the thread count. */
-std::vector<PoseHypothesis>
-globalSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
-             const Eigen::Vector3f& camera, const GlobalSearchParams& params,
-             std::uint64_t seed, int threads = 1);
+std::vector<PoseHypothesis> globalSearch(const IcfModel& model,
+                                         const std::vector<Eigen::Vector3f>& scene_points,
+                                         const Eigen::Vector3f& camera,
+                                         const GlobalSearchParams& params, std::uint64_t seed,
+                                         int threads = 1);
 
 /** \brief Kernel score (eq. 4) of a pose over points, distances from the field. */
-double
-fieldKernelScore(const ClosestPointField& field, const std::vector<Eigen::Vector3f>& scene_points,
-                 const Eigen::Isometry3f& scene_to_model, float kernel);
+double fieldKernelScore(const ClosestPointField& field,
+                        const std::vector<Eigen::Vector3f>& scene_points,
+                        const Eigen::Isometry3f& scene_to_model, float kernel);
+
+/** \brief Centroid of a cluster that ignores a few far stray points (doc/icf.md section 4). */
+Eigen::Vector3f robustCentroid(const std::vector<Eigen::Vector3f>& points);
 
 /** \brief Where the global search places the model's visible centroid, and the scene points
  * that score it there. */
@@ -86,13 +90,13 @@ struct SearchAnchor {
 
 /** \brief The search's anchors: the centroid of all points with a random subsample, or, for a
  * cluster that spreads wider than the model (see merged_cluster_ratio), local windows. */
-std::vector<SearchAnchor>
-translationAnchors(const std::vector<Eigen::Vector3f>& points, float model_radius,
-                   const GlobalSearchParams& params, std::uint64_t seed);
+std::vector<SearchAnchor> translationAnchors(const std::vector<Eigen::Vector3f>& points,
+                                             float model_radius, const GlobalSearchParams& params,
+                                             std::uint64_t seed);
 
 /** \brief A seeded random subset of \a count points (all of them when there are fewer). */
-std::vector<Eigen::Vector3f>
-randomSubset(const std::vector<Eigen::Vector3f>& points, std::size_t count, std::uint64_t seed);
+std::vector<Eigen::Vector3f> randomSubset(const std::vector<Eigen::Vector3f>& points,
+                                          std::size_t count, std::uint64_t seed);
 
 }  // namespace icf
 }  // namespace pcl

@@ -15,10 +15,11 @@ namespace icf {
 
 /** \brief Options for preparing a model. */
 struct IcfModelParams {
-  FaceMeshOptions mesh;        ///< unit scale and tolerances of the faces
-  DistanceFieldParams field;   ///< the scoring field
-  std::size_t surface_samples = 4000;  ///< area-weighted samples (visibility, coverage, base target)
-  std::uint64_t seed = 1;      ///< for the samples
+  FaceMeshOptions mesh;       ///< unit scale and tolerances of the faces
+  DistanceFieldParams field;  ///< the scoring field
+  std::size_t surface_samples =
+      4000;                ///< area-weighted samples (visibility, coverage, base target)
+  std::uint64_t seed = 1;  ///< for the samples
 };
 
 /** \brief A model ready for pose estimation: the faces, the exact index, the closest-point
@@ -27,14 +28,13 @@ struct IcfModelParams {
  * Building costs about a second for 100k faces (the field dominates); queries are const and
  * thread-safe. Non-copyable (the index refers to the faces); hold it by shared_ptr. */
 class IcfModel {
-public:
+ public:
   using Ptr = std::shared_ptr<IcfModel>;
   using ConstPtr = std::shared_ptr<const IcfModel>;
 
   /** \throws InvalidMeshError for a mesh that cannot be a model, std::invalid_argument for
    * absurd parameters. */
-  static ConstPtr
-  build(const pcl::PolygonMesh& mesh, const IcfModelParams& params = {});
+  static ConstPtr build(const pcl::PolygonMesh& mesh, const IcfModelParams& params = {});
 
   const FaceMesh& mesh() const { return *mesh_; }
   const ClosestFaceQuery& index() const { return *index_; }
@@ -46,7 +46,7 @@ public:
   IcfModel(const IcfModel&) = delete;
   IcfModel& operator=(const IcfModel&) = delete;
 
-private:
+ private:
   IcfModel() = default;
   std::unique_ptr<FaceMesh> mesh_;
   std::unique_ptr<ClosestFaceQuery> index_;

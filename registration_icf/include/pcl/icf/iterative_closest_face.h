@@ -21,9 +21,10 @@ namespace pcl {
  * (The target point type is PointSource, not PointXYZ: PCL 1.13's Registration::initCompute
  * does not compile when the source and target types differ, because
  * CorrespondenceEstimationBase types its reciprocal kd-tree on the target. The base's target
- * cloud holds the mesh's surface samples, xyz and, where the type has them, normals.) getFinalTransformation() maps the source into the model frame, as
- * PCL defines registration; getObjectPose() is its inverse, the model's pose in the scene,
- * which is usually what a grasp planner wants.
+ * cloud holds the mesh's surface samples, xyz and, where the type has them, normals.)
+ * getFinalTransformation() maps the source into the model frame, as PCL defines registration;
+ * getObjectPose() is its inverse, the model's pose in the scene, which is usually what a grasp
+ * planner wants.
  *
  * - align(output): global search (setSearchStrategy: fast by default, or the thesis's), then
  *   refinement by iterative closest face. align(output, guess) with a guess other than the
@@ -57,7 +58,7 @@ namespace pcl {
  * setNumberOfThreads threads with results independent of the count. */
 template <typename PointSource, typename Scalar = float>
 class IterativeClosestFace : public Registration<PointSource, PointSource, Scalar> {
-public:
+ public:
   using Base = Registration<PointSource, PointSource, Scalar>;
   using typename Base::Matrix4;
   using typename Base::PointCloudSource;
@@ -79,16 +80,13 @@ public:
    * files). Builds the model (faces, exact index, field, samples) and fills the base class's
    * target cloud with its surface samples. \throws icf::InvalidMeshError for a mesh that
    * cannot be a model. */
-  void
-  setInputTarget(const pcl::PolygonMesh::ConstPtr& mesh);
+  void setInputTarget(const pcl::PolygonMesh::ConstPtr& mesh);
 
   /** \brief Use a model that is already built (shared between several registrations). */
-  void
-  setInputModel(const icf::IcfModel::ConstPtr& model);
+  void setInputModel(const icf::IcfModel::ConstPtr& model);
 
   /** \brief A point cloud is not a mesh target. \throws std::invalid_argument always. */
-  void
-  setInputTarget(const PointCloudTargetConstPtr& cloud) override;
+  void setInputTarget(const PointCloudTargetConstPtr& cloud) override;
 
   /** \brief Options used by the next setInputTarget(mesh). */
   void setModelParams(const icf::IcfModelParams& params) { model_params_ = params; }
@@ -98,20 +96,16 @@ public:
 
   void setSearchStrategy(icf::SearchStrategy s) { params_.strategy = s; }
   /** \brief Threads for the search and refinement (0: all cores). */
-  void
-  setNumberOfThreads(int threads)
-  {
+  void setNumberOfThreads(int threads) {
     if (threads < 0)
-      throw std::invalid_argument("IterativeClosestFace::setNumberOfThreads: " +
-                                  std::to_string(threads) + " < 0");
+      throw std::invalid_argument(
+          "IterativeClosestFace::setNumberOfThreads: " + std::to_string(threads) + " < 0");
     params_.threads = threads;
   }
   void setSeed(std::uint64_t seed) { params_.seed = seed; }
   void setGuessPolicy(GuessPolicy policy) { guess_policy_ = policy; }
   /** \brief Camera position in the source frame; by default the source's sensor_origin_. */
-  void
-  setCameraOrigin(const Eigen::Vector3f& origin)
-  {
+  void setCameraOrigin(const Eigen::Vector3f& origin) {
     camera_ = origin;
     camera_set_ = true;
   }
@@ -122,14 +116,14 @@ public:
   /** \brief The model's pose in the scene: the inverse of getFinalTransformation(). */
   Eigen::Matrix4f getObjectPose() const { return result_.object_pose; }
 
-protected:
-  void
-  computeTransformation(PointCloudSource& output, const Matrix4& guess) override;
+ protected:
+  void computeTransformation(PointCloudSource& output, const Matrix4& guess) override;
 
   using Base::converged_;
+  using Base::euclidean_fitness_epsilon_;
   using Base::final_transformation_;
-  using Base::input_;
   using Base::indices_;
+  using Base::input_;
   using Base::max_iterations_;
   using Base::nr_iterations_;
   using Base::previous_transformation_;
@@ -138,10 +132,9 @@ protected:
   using Base::transformation_;
   using Base::transformation_epsilon_;
   using Base::transformation_rotation_epsilon_;
-  using Base::euclidean_fitness_epsilon_;
   using Base::update_visualizer_;
 
-private:
+ private:
   icf::IcfModelParams model_params_;
   icf::IcfParams params_;
   icf::IcfModel::ConstPtr model_;

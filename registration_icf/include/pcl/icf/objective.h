@@ -31,9 +31,7 @@ struct ThesisObjectiveParams {
 };
 
 /** \brief f(x, P) for one point at distance \a d (eq. 1). */
-inline float
-thesisPointScore(float d, const ThesisObjectiveParams& p)
-{
+inline float thesisPointScore(float d, const ThesisObjectiveParams& p) {
   const float g = d < p.near_distance ? d : p.far_factor * d;
   return g < p.cutoff ? 1.f - g / p.cutoff : 0.f;
 }
@@ -41,10 +39,8 @@ thesisPointScore(float d, const ThesisObjectiveParams& p)
 /** \brief F(P, S) for points already in the model frame, with distances from \a distance
  * (the exact index or the field), honouring the early exit. */
 template <typename DistanceFunction>
-double
-thesisObjective(const std::vector<Eigen::Vector3f>& model_frame_points,
-                const DistanceFunction& distance, const ThesisObjectiveParams& p)
-{
+double thesisObjective(const std::vector<Eigen::Vector3f>& model_frame_points,
+                       const DistanceFunction& distance, const ThesisObjectiveParams& p) {
   double sum = 0.0;
   int far = 0;
   for (const Eigen::Vector3f& x : model_frame_points) {
@@ -60,9 +56,7 @@ thesisObjective(const std::vector<Eigen::Vector3f>& model_frame_points,
  * quadratic, 1 - (d / scale)^2 for d < scale, else 0. Unlike the thesis's f, which falls by
  * only 2.5% from 0 to 5 mm, it separates poses a few millimetres apart; points farther than
  * scale (other objects in a merged cluster) add nothing. */
-inline float
-kernelScore(float d, float scale)
-{
+inline float kernelScore(float d, float scale) {
   const float r = d / scale;
   return r < 1.f ? 1.f - r * r : 0.f;
 }

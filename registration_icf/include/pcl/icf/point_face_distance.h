@@ -33,10 +33,9 @@ struct ClosestPointOnFace {
 
 /** \brief Closest point on the segment [a, b] to p, as a parameter t in [0, 1]. */
 template <typename Scalar>
-inline Scalar
-closestParameterOnSegment(const Eigen::Matrix<Scalar, 3, 1>& p, const Eigen::Matrix<Scalar, 3, 1>& a,
-                          const Eigen::Matrix<Scalar, 3, 1>& b)
-{
+inline Scalar closestParameterOnSegment(const Eigen::Matrix<Scalar, 3, 1>& p,
+                                        const Eigen::Matrix<Scalar, 3, 1>& a,
+                                        const Eigen::Matrix<Scalar, 3, 1>& b) {
   const Eigen::Matrix<Scalar, 3, 1> ab = b - a;
   const Scalar len2 = ab.squaredNorm();
   if (!(len2 > Scalar(0)))
@@ -51,9 +50,10 @@ closestParameterOnSegment(const Eigen::Matrix<Scalar, 3, 1>& p, const Eigen::Mat
  * to the closest point on their edges, so the answer is always a point of the (degenerate)
  * triangle. Edges are numbered 0 = ab, 1 = bc, 2 = ca; vertices 0 = a, 1 = b, 2 = c. */
 template <typename Scalar>
-ClosestPointOnFace<Scalar>
-closestPointOnTriangle(const Eigen::Matrix<Scalar, 3, 1>& p, const Eigen::Matrix<Scalar, 3, 1>& a,
-                       const Eigen::Matrix<Scalar, 3, 1>& b, const Eigen::Matrix<Scalar, 3, 1>& c);
+ClosestPointOnFace<Scalar> closestPointOnTriangle(const Eigen::Matrix<Scalar, 3, 1>& p,
+                                                  const Eigen::Matrix<Scalar, 3, 1>& a,
+                                                  const Eigen::Matrix<Scalar, 3, 1>& b,
+                                                  const Eigen::Matrix<Scalar, 3, 1>& c);
 
 /** \brief Exact closest point on a planar convex polygon given by \a n vertices in order
  * (n >= 3), with its unit normal \a normal (right-handed with the vertex order).
@@ -62,10 +62,10 @@ closestPointOnTriangle(const Eigen::Matrix<Scalar, 3, 1>& p, const Eigen::Matrix
  * otherwise the closest point over all edges (segment clamping tells edge from vertex). The
  * caller guarantees planarity and convexity (FaceMesh does: other polygons are triangulated). */
 template <typename Scalar>
-ClosestPointOnFace<Scalar>
-closestPointOnConvexPolygon(const Eigen::Matrix<Scalar, 3, 1>& p,
-                            const Eigen::Matrix<Scalar, 3, 1>* vertices, int n,
-                            const Eigen::Matrix<Scalar, 3, 1>& normal);
+ClosestPointOnFace<Scalar> closestPointOnConvexPolygon(const Eigen::Matrix<Scalar, 3, 1>& p,
+                                                       const Eigen::Matrix<Scalar, 3, 1>* vertices,
+                                                       int n,
+                                                       const Eigen::Matrix<Scalar, 3, 1>& normal);
 
 /** \brief The thesis's point-to-rectangle distance (section 4.2.2, Algorithm 1): project p on
  * the rectangle's plane, count the edges (AB, BC, CD, DA) whose segment does not contain the
@@ -74,9 +74,8 @@ closestPointOnConvexPolygon(const Eigen::Matrix<Scalar, 3, 1>& p,
  * 5, 7: combined with the closest vertex). Kept as written, as a reference the general
  * closestPointOnConvexPolygon is tested against. \a corners in order A, B, C, D. */
 template <typename Scalar>
-ClosestPointOnFace<Scalar>
-closestPointOnRectangleThesis(const Eigen::Matrix<Scalar, 3, 1>& p,
-                              const Eigen::Matrix<Scalar, 3, 1>* corners);
+ClosestPointOnFace<Scalar> closestPointOnRectangleThesis(
+    const Eigen::Matrix<Scalar, 3, 1>& p, const Eigen::Matrix<Scalar, 3, 1>* corners);
 
 }  // namespace icf
 }  // namespace pcl

@@ -32,9 +32,10 @@ struct VisibilityParams {
 /** \brief Indices of the model's surface samples that a camera at \a camera (scene frame)
  * would see with the model at \a model_to_scene: facing the camera and not hidden behind
  * another part of the model. */
-std::vector<std::size_t>
-visibleSamples(const IcfModel& model, const Eigen::Isometry3f& model_to_scene,
-               const Eigen::Vector3f& camera, const VisibilityParams& params = {});
+std::vector<std::size_t> visibleSamples(const IcfModel& model,
+                                        const Eigen::Isometry3f& model_to_scene,
+                                        const Eigen::Vector3f& camera,
+                                        const VisibilityParams& params = {});
 
 /** \brief How well a pose explains a cluster, all measured at the final pose. */
 struct PoseQuality {
@@ -44,7 +45,7 @@ struct PoseQuality {
   /** Share of the visible model surface (visibleSamples) with a scene point within
    * inlier_distance: how much of what the camera should see of the model is there. */
   double surface_coverage = 0.0;
-  int far_points = 0;         ///< scene points farther than the thesis gate distance
+  int far_points = 0;  ///< scene points farther than the thesis gate distance
   std::size_t inliers = 0;
   std::size_t visible_samples = 0;
 };
@@ -54,12 +55,12 @@ struct PoseQuality {
  * \param scene_to_model the registration transform (its inverse poses the model)
  * \param inlier_distance radius for inliers and coverage
  * \param gate_distance distance beyond which a point counts in far_points (thesis: 27 mm) */
-PoseQuality
-measurePoseQuality(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
-                   const Eigen::Isometry3f& scene_to_model, const Eigen::Vector3f& camera,
-                   float inlier_distance, float gate_distance,
-                   const ThesisObjectiveParams& objective, const VisibilityParams& visibility,
-                   int threads = 1);
+PoseQuality measurePoseQuality(const IcfModel& model,
+                               const std::vector<Eigen::Vector3f>& scene_points,
+                               const Eigen::Isometry3f& scene_to_model,
+                               const Eigen::Vector3f& camera, float inlier_distance,
+                               float gate_distance, const ThesisObjectiveParams& objective,
+                               const VisibilityParams& visibility, int threads = 1);
 
 }  // namespace icf
 }  // namespace pcl

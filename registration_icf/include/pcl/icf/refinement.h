@@ -46,7 +46,7 @@ struct RefinementParams {
 struct RefinementResult {
   Eigen::Isometry3f scene_to_model = Eigen::Isometry3f::Identity();
   int iterations = 0;
-  bool converged = false;  ///< a stopping criterion was met before max_iterations
+  bool converged = false;         ///< a stopping criterion was met before max_iterations
   int degenerate_directions = 0;  ///< at the last iteration
   double weighted_rmse = 0.0;     ///< at the last iteration, scene units
 };
@@ -64,27 +64,26 @@ using IterationCallback = std::function<void(const Eigen::Isometry3f&, int itera
  * \param initial scene-to-model transform to start from
  * \param threads for the closest-face queries (the sum is reduced in a fixed order, so the
  *        result does not depend on it) */
-RefinementResult
-refinePose(const ClosestFaceQuery& index, const std::vector<Eigen::Vector3f>& scene_points,
-           const Eigen::Isometry3f& initial, const RefinementParams& params, int threads = 1,
-           const IterationCallback& callback = {});
+RefinementResult refinePose(const ClosestFaceQuery& index,
+                            const std::vector<Eigen::Vector3f>& scene_points,
+                            const Eigen::Isometry3f& initial, const RefinementParams& params,
+                            int threads = 1, const IterationCallback& callback = {});
 
 class ClosestPointField;
 
 /** \brief The same iteration with closest points from the field instead of exact faces (the
  * residual direction is (p - c~)/|p - c~|): a cheap first refinement of many hypotheses.
  * Accurate to the field's error (ClosestPointField::errorBound). */
-RefinementResult
-refinePoseOnField(const ClosestPointField& field, const Eigen::Vector3f& pivot, double scale,
-                  const std::vector<Eigen::Vector3f>& scene_points,
-                  const Eigen::Isometry3f& initial, const RefinementParams& params);
+RefinementResult refinePoseOnField(const ClosestPointField& field, const Eigen::Vector3f& pivot,
+                                   double scale, const std::vector<Eigen::Vector3f>& scene_points,
+                                   const Eigen::Isometry3f& initial,
+                                   const RefinementParams& params);
 
 /** \brief Solve the damped 6x6 normal equations H x = -g, leaving degenerate directions (an
  * eigenvalue below ratio * the largest) at zero. Returns the number of such directions. */
-int
-solveDampedDegeneracyAware(const Eigen::Matrix<double, 6, 6>& H,
-                           const Eigen::Matrix<double, 6, 1>& g, double damping, double ratio,
-                           Eigen::Matrix<double, 6, 1>& x);
+int solveDampedDegeneracyAware(const Eigen::Matrix<double, 6, 6>& H,
+                               const Eigen::Matrix<double, 6, 1>& g, double damping, double ratio,
+                               Eigen::Matrix<double, 6, 1>& x);
 
 }  // namespace icf
 }  // namespace pcl

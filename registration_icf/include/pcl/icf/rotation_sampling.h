@@ -17,12 +17,10 @@ namespace icf {
  * "Super-Fibonacci Spirals: Fast, Low-Discrepancy Sampling of SO(3)", CVPR 2022), all turned
  * by one random rotation drawn from \a seed so different seeds give different, equally
  * uniform sets. The covering radius is about 2.1 / cbrt(count) radians (doc/icf.md). */
-std::vector<Eigen::Quaternionf>
-uniformRotations(std::size_t count, std::uint64_t seed);
+std::vector<Eigen::Quaternionf> uniformRotations(std::size_t count, std::uint64_t seed);
 
 /** \brief One rotation uniform on SO(3) (a normalised 4D Gaussian). */
-Eigen::Quaternionf
-randomRotation(std::mt19937_64& rng);
+Eigen::Quaternionf randomRotation(std::mt19937_64& rng);
 
 }  // namespace icf
 }  // namespace pcl

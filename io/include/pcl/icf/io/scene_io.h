@@ -38,14 +38,18 @@ constexpr std::size_t kMaxScenePoints = 50000000;
 
 /** \brief Load a scene point cloud, chosen by the extension (case-insensitive):
  *
- * - .pcd: PCL's reader (ascii, binary, binary_compressed). An organized cloud stays organized
- *   (width x height, NaN where the sensor saw nothing) and the file's VIEWPOINT becomes
+ * - .pcd: ascii, binary, binary_compressed, as PCL writes them. An organized cloud stays
+ *   organized (width x height, NaN where the sensor saw nothing) and the file's VIEWPOINT becomes
  *   sensor_origin_ / sensor_orientation_.
- * - .ply: PCL's reader; the vertices are the points (faces, if any, are ignored).
+ * - .ply: ascii or binary; the vertices are the points (faces, if any, are ignored).
  * - .xyz / .asc: plain text as the thesis's capture program wrote it, one point per line:
  *   three numbers "x y z", or six "x y z r g b" with r, g, b integers in [0, 255]; numbers
  *   are separated by spaces, tabs or commas; blank lines and lines starting with '#' are
  *   skipped; "nan" is read as NaN. Any other line is an error naming its line number.
+ *
+ * PCD and PLY are read by our own readers, which check every size against the file before
+ * allocating (PCL's crashed on fuzzed files: doc/HOSTILE_INPUTS.md); the result is what PCL's
+ * readers give for valid files.
  *
  * Without colour in the file every point gets white (r = g = b = a = 255) and
  * info->has_colour is false. Units are whatever the file holds (PCL's convention: metres).

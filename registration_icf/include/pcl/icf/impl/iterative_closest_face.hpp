@@ -14,26 +14,23 @@
 namespace pcl {
 
 template <typename PointSource, typename Scalar>
-IterativeClosestFace<PointSource, Scalar>::IterativeClosestFace()
-{
+IterativeClosestFace<PointSource, Scalar>::IterativeClosestFace() {
   reg_name_ = "IterativeClosestFace";
   max_iterations_ = params_.refinement.max_iterations;
   transformation_epsilon_ = params_.refinement.transformation_epsilon;
 }
 
 template <typename PointSource, typename Scalar>
-void
-IterativeClosestFace<PointSource, Scalar>::setInputTarget(const pcl::PolygonMesh::ConstPtr& mesh)
-{
+void IterativeClosestFace<PointSource, Scalar>::setInputTarget(
+    const pcl::PolygonMesh::ConstPtr& mesh) {
   if (!mesh)
     throw std::invalid_argument("IterativeClosestFace::setInputTarget: null mesh");
   setInputModel(icf::IcfModel::build(*mesh, model_params_));
 }
 
 template <typename PointSource, typename Scalar>
-void
-IterativeClosestFace<PointSource, Scalar>::setInputModel(const icf::IcfModel::ConstPtr& model)
-{
+void IterativeClosestFace<PointSource, Scalar>::setInputModel(
+    const icf::IcfModel::ConstPtr& model) {
   if (!model)
     throw std::invalid_argument("IterativeClosestFace::setInputModel: null model");
   model_ = model;
@@ -51,19 +48,15 @@ IterativeClosestFace<PointSource, Scalar>::setInputModel(const icf::IcfModel::Co
 }
 
 template <typename PointSource, typename Scalar>
-void
-IterativeClosestFace<PointSource, Scalar>::setInputTarget(const PointCloudTargetConstPtr&)
-{
+void IterativeClosestFace<PointSource, Scalar>::setInputTarget(const PointCloudTargetConstPtr&) {
   throw std::invalid_argument(
       "IterativeClosestFace::setInputTarget: the target must be a pcl::PolygonMesh "
       "(setInputTarget(PolygonMesh::ConstPtr) or setInputModel)");
 }
 
 template <typename PointSource, typename Scalar>
-void
-IterativeClosestFace<PointSource, Scalar>::computeTransformation(PointCloudSource& output,
-                                                                 const Matrix4& guess)
-{
+void IterativeClosestFace<PointSource, Scalar>::computeTransformation(PointCloudSource& output,
+                                                                      const Matrix4& guess) {
   result_ = icf::IcfResult();
   if (!model_) {
     result_.status = icf::IcfStatus::NoModel;

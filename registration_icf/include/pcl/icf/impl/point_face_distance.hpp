@@ -11,10 +11,9 @@ namespace icf {
 namespace detail {
 
 template <typename Scalar>
-inline ClosestPointOnFace<Scalar>
-makeClosest(const Eigen::Matrix<Scalar, 3, 1>& p, const Eigen::Matrix<Scalar, 3, 1>& c,
-            FaceFeature feature, int index)
-{
+inline ClosestPointOnFace<Scalar> makeClosest(const Eigen::Matrix<Scalar, 3, 1>& p,
+                                              const Eigen::Matrix<Scalar, 3, 1>& c,
+                                              FaceFeature feature, int index) {
   ClosestPointOnFace<Scalar> r;
   r.point = c;
   r.squared_distance = (p - c).squaredNorm();
@@ -26,10 +25,10 @@ makeClosest(const Eigen::Matrix<Scalar, 3, 1>& p, const Eigen::Matrix<Scalar, 3,
 /** Closest point on edge k = [a, b] of a face, classified as edge or one of its end vertices.
  * \a ia, \a ib are the vertex indices of a and b within the face. */
 template <typename Scalar>
-inline ClosestPointOnFace<Scalar>
-closestOnEdge(const Eigen::Matrix<Scalar, 3, 1>& p, const Eigen::Matrix<Scalar, 3, 1>& a,
-              const Eigen::Matrix<Scalar, 3, 1>& b, int edge, int ia, int ib)
-{
+inline ClosestPointOnFace<Scalar> closestOnEdge(const Eigen::Matrix<Scalar, 3, 1>& p,
+                                                const Eigen::Matrix<Scalar, 3, 1>& a,
+                                                const Eigen::Matrix<Scalar, 3, 1>& b, int edge,
+                                                int ia, int ib) {
   const Scalar t = closestParameterOnSegment(p, a, b);
   if (t <= Scalar(0))
     return makeClosest(p, a, FaceFeature::Vertex, ia);
@@ -39,9 +38,8 @@ closestOnEdge(const Eigen::Matrix<Scalar, 3, 1>& p, const Eigen::Matrix<Scalar, 
 }
 
 template <typename Scalar>
-inline void
-keepCloser(ClosestPointOnFace<Scalar>& best, const ClosestPointOnFace<Scalar>& candidate)
-{
+inline void keepCloser(ClosestPointOnFace<Scalar>& best,
+                       const ClosestPointOnFace<Scalar>& candidate) {
   if (candidate.squared_distance < best.squared_distance)
     best = candidate;
 }
@@ -49,10 +47,10 @@ keepCloser(ClosestPointOnFace<Scalar>& best, const ClosestPointOnFace<Scalar>& c
 }  // namespace detail
 
 template <typename Scalar>
-ClosestPointOnFace<Scalar>
-closestPointOnTriangle(const Eigen::Matrix<Scalar, 3, 1>& p, const Eigen::Matrix<Scalar, 3, 1>& a,
-                       const Eigen::Matrix<Scalar, 3, 1>& b, const Eigen::Matrix<Scalar, 3, 1>& c)
-{
+ClosestPointOnFace<Scalar> closestPointOnTriangle(const Eigen::Matrix<Scalar, 3, 1>& p,
+                                                  const Eigen::Matrix<Scalar, 3, 1>& a,
+                                                  const Eigen::Matrix<Scalar, 3, 1>& b,
+                                                  const Eigen::Matrix<Scalar, 3, 1>& c) {
   using detail::makeClosest;
   using Vec = Eigen::Matrix<Scalar, 3, 1>;
   const Vec ab = b - a, ac = c - a, ap = p - a;
@@ -96,11 +94,10 @@ closestPointOnTriangle(const Eigen::Matrix<Scalar, 3, 1>& p, const Eigen::Matrix
 }
 
 template <typename Scalar>
-ClosestPointOnFace<Scalar>
-closestPointOnConvexPolygon(const Eigen::Matrix<Scalar, 3, 1>& p,
-                            const Eigen::Matrix<Scalar, 3, 1>* vertices, int n,
-                            const Eigen::Matrix<Scalar, 3, 1>& normal)
-{
+ClosestPointOnFace<Scalar> closestPointOnConvexPolygon(const Eigen::Matrix<Scalar, 3, 1>& p,
+                                                       const Eigen::Matrix<Scalar, 3, 1>* vertices,
+                                                       int n,
+                                                       const Eigen::Matrix<Scalar, 3, 1>& normal) {
   using Vec = Eigen::Matrix<Scalar, 3, 1>;
   if (n == 3)
     return closestPointOnTriangle(p, vertices[0], vertices[1], vertices[2]);
@@ -116,16 +113,14 @@ closestPointOnConvexPolygon(const Eigen::Matrix<Scalar, 3, 1>& p,
   }
   ClosestPointOnFace<Scalar> best;
   for (int k = 0; k < n; ++k)
-    detail::keepCloser(best, detail::closestOnEdge(p, vertices[k], vertices[(k + 1) % n], k, k,
-                                                   (k + 1) % n));
+    detail::keepCloser(
+        best, detail::closestOnEdge(p, vertices[k], vertices[(k + 1) % n], k, k, (k + 1) % n));
   return best;
 }
 
 template <typename Scalar>
-ClosestPointOnFace<Scalar>
-closestPointOnRectangleThesis(const Eigen::Matrix<Scalar, 3, 1>& p,
-                              const Eigen::Matrix<Scalar, 3, 1>* corners)
-{
+ClosestPointOnFace<Scalar> closestPointOnRectangleThesis(
+    const Eigen::Matrix<Scalar, 3, 1>& p, const Eigen::Matrix<Scalar, 3, 1>* corners) {
   using Vec = Eigen::Matrix<Scalar, 3, 1>;
   const Vec normal = (corners[1] - corners[0]).cross(corners[3] - corners[0]).normalized();
   const Vec projected = p - normal.dot(p - corners[0]) * normal;  // P'
@@ -149,8 +144,8 @@ closestPointOnRectangleThesis(const Eigen::Matrix<Scalar, 3, 1>& p,
       if (!projectionInside(a, b))
         continue;
       const Scalar t = closestParameterOnSegment(projected, a, b);
-      detail::keepCloser(best, detail::makeClosest<Scalar>(p, a + t * (b - a),
-                                                           FaceFeature::Edge, k));
+      detail::keepCloser(best,
+                         detail::makeClosest<Scalar>(p, a + t * (b - a), FaceFeature::Edge, k));
     }
     return best;
   }

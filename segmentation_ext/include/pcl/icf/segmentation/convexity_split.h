@@ -35,9 +35,9 @@ struct ConvexitySplitParams {
  * pcl::SupervoxelClustering). Objects standing side by side meet in concave creases; a box's
  * or a can's own edges are convex and keep it whole. Returns the segments (indices into
  * \a cloud), largest first; the cluster itself when it does not split. */
-std::vector<pcl::PointIndices>
-splitByConvexity(const pcl::PointCloud<pcl::PointXYZRGBA>& cloud, const pcl::PointIndices& cluster,
-                 const ConvexitySplitParams& params = {});
+std::vector<pcl::PointIndices> splitByConvexity(const pcl::PointCloud<pcl::PointXYZRGBA>& cloud,
+                                                const pcl::PointIndices& cluster,
+                                                const ConvexitySplitParams& params = {});
 
 }  // namespace segmentation
 }  // namespace icf

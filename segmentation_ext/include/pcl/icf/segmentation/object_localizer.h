@@ -92,8 +92,8 @@ struct ClusterLocalization {
   /** -1 for a cluster of the segmentation; else the index (in Localization::clusters) of the
    * merged cluster this convexity segment was split from. */
   int parent = -1;
-  IcfResult icf;              ///< pose (object_pose: model -> scene), quality, status
-  int gate_far_points = 0;    ///< points beyond gate_distance counted by the thesis's gate
+  IcfResult icf;            ///< pose (object_pose: model -> scene), quality, status
+  int gate_far_points = 0;  ///< points beyond gate_distance counted by the thesis's gate
   bool gate_passed = true;
   double boundary_continuation = 0.0;  ///< share of the silhouette border where the surface goes on
   double free_space_violation = 0.0;   ///< share of visible model samples seen through
@@ -103,8 +103,8 @@ struct ClusterLocalization {
    * cluster the model explains, comparable across clusters of any size (doc/localizer.md). */
   double score = 0.0;
   bool single_object = true;  ///< judged as one object's points (see thesis_gate)
-  bool accepted = false;  ///< ICF accepted, gate passed, free space respected
-  std::string reason;     ///< why not accepted ("" when accepted)
+  bool accepted = false;      ///< ICF accepted, gate passed, free space respected
+  std::string reason;         ///< why not accepted ("" when accepted)
 };
 
 enum class LocalizationStatus {
@@ -119,7 +119,7 @@ const char* toString(LocalizationStatus status);
 struct Localization {
   LocalizationStatus status = LocalizationStatus::NotFound;
   std::string message;
-  TabletopSegmentation segmentation;          ///< empty when params.segment is false
+  TabletopSegmentation segmentation;  ///< empty when params.segment is false
   /** The segmentation's clusters in its order, then the convexity segments of merged ones. */
   std::vector<ClusterLocalization> clusters;
   int best = -1;  ///< index into clusters of the best accepted cluster, -1 when none

@@ -23,7 +23,7 @@ using namespace pcl::icf;
 using Clock = std::chrono::steady_clock;
 
 struct Stats {
-  std::vector<double> t_mm, r_deg, ms;
+  std::vector<double> t_mm, r_deg, ms, points;
   int ok = 0;
 };
 
@@ -49,6 +49,7 @@ Stats run(const test::SyntheticModel& model, const Method& method, int trials) {
       noise.seed = seed;
       cluster = test::renderCluster(model.mesh, truth, test::CameraIntrinsics(), noise);
     } while (cluster->size() < 200);
+    s.points.push_back(static_cast<double>(cluster->size()));
     const auto start = Clock::now();
     const Eigen::Matrix4f pose = method(cluster);
     s.ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
@@ -61,9 +62,10 @@ Stats run(const test::SyntheticModel& model, const Method& method, int trials) {
 }
 
 void row(const std::string& model, const std::string& method, const Stats& s) {
-  std::printf("| %s | %s | %zu | %.0f%% | %.2f | %.2f | %.1f |\n", model.c_str(), method.c_str(),
-              s.ms.size(), 100.0 * s.ok / std::max<std::size_t>(1, s.ms.size()), median(s.t_mm),
-              median(s.r_deg), median(s.ms));
+  std::printf("| %s | %s | %zu | %.0f | %.0f%% | %.2f | %.2f | %.1f |\n", model.c_str(),
+              method.c_str(), s.ms.size(), median(s.points),
+              100.0 * s.ok / std::max<std::size_t>(1, s.ms.size()), median(s.t_mm), median(s.r_deg),
+              median(s.ms));
   std::fflush(stdout);
 }
 
@@ -73,8 +75,8 @@ int main(int argc, char** argv) {
   const int trials = argc > 1 ? std::max(1, std::atoi(argv[1])) : 50;
   const int thesis_trials = argc > 2 ? std::max(0, std::atoi(argv[2])) : 3;
   std::printf(
-      "| model | method | trials | success (5 mm, 3 deg) | median t err (mm) | "
-      "median r err (deg) | median time (ms) |\n|---|---|---|---|---|---|---|\n");
+      "| model | method | trials | median points | success (5 mm, 3 deg) | median t err (mm) | "
+      "median r err (deg) | median time (ms) |\n|---|---|---|---|---|---|---|---|\n");
   for (const std::string& name : test::thesisModelNames()) {
     const test::SyntheticModel model = test::thesisModel(name);
     const auto mesh = pcl::make_shared<pcl::PolygonMesh>(model.mesh);

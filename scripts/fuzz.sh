@@ -6,6 +6,7 @@
 #   scripts/fuzz.sh                          every target, 60 s each
 #   FUZZ_SECONDS=3600 scripts/fuzz.sh fuzz_scene_pcd fuzz_pipeline
 #   FUZZ_JOBS=2 ...                          libFuzzer workers per target (default 1)
+#   FUZZ_RSS_MB=4096 ...                     memory limit per worker (default 2048)
 #
 # New inputs that reach new code go to build/fuzz/corpus/<target>/ (kept between runs); the
 # committed seeds in fuzz/corpus/<target>/ are only read. See doc/HOSTILE_INPUTS.md.
@@ -31,8 +32,8 @@ for t in "${TARGETS[@]}"; do
   mkdir -p "$work" "$artifacts"
   log=build/fuzz/$t.log
   echo "== fuzz: $t for ${FUZZ_SECONDS} s"
-  args=(-max_total_time="$FUZZ_SECONDS" -rss_limit_mb=2048 -timeout=10 -print_final_stats=1
-        -artifact_prefix="$artifacts")
+  args=(-max_total_time="$FUZZ_SECONDS" -rss_limit_mb="${FUZZ_RSS_MB:-2048}" -timeout=10
+        -print_final_stats=1 -artifact_prefix="$artifacts")
   # The pipeline keeps SampleConsensus models in a process-wide cache, so inputs allocate more
   # than they free and libFuzzer would scan the heap for leaks after each (half its time);
   # ASan's leak check at exit stays on.

@@ -13,9 +13,8 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdlib>
-
 #include <fstream>
+#include <iostream>
 #include <memory>
 #include <random>
 

@@ -31,9 +31,10 @@
 //
 // Per method: success rate (translation <= 1 cm and rotation <= 5 degrees, symmetry-aware),
 // mean / median / standard deviation of the translation error (mm) and rotation error
-// (degrees) as the thesis's chapter 7 reports them, ADD-S (mm, over 2000 surface samples) and
-// the median time. Writes NAME_cases.csv (one row per case and method), NAME_summary.csv,
-// NAME.md (also printed on stdout), the plot's data and gnuplot script (NAME_plot.dat/.gp) in
+// (degrees) as the thesis's chapter 7 reports them, ADD-S (mm: mean distance from 2000 truly posed
+// surface samples to the estimated model surface) and the median time. Writes NAME_cases.csv (one
+// row per case and method), NAME_summary.csv, NAME.md (also printed on stdout), the plot's data and
+// gnuplot script (NAME_plot.dat/.gp) in
 // --out and, with gnuplot, NAME_mean.png and NAME_std.png in --plots (bar charts per group and
 // method like the thesis's figures 7.5 and 7.6). Progress goes to stderr
 // when it is a terminal. Exit codes: 0 done, 2 bad usage, manifest or data.
@@ -47,7 +48,6 @@
 #include <pcl/icf/iterative_closest_face.h>
 #include <pcl/icf/sample_consensus_alignment.h>
 #include <pcl/io/pcd_io.h>
-#include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/registration/icp.h>
 #include <pcl/registration/transformation_estimation_point_to_plane_lls.h>
 
@@ -265,7 +265,6 @@ struct PreparedModel {
   CloudXYZ::Ptr dense;               ///< 20000 area-weighted samples (ICP targets)
   CloudN::Ptr dense_normals;         ///< the same with face normals
   CloudXYZ::Ptr adds_samples;        ///< 2000 samples for ADD-S
-  pcl::KdTreeFLANN<pcl::PointXYZ> adds_tree;
   double icf_build_ms = 0.0, sac_build_ms = 0.0;
 };
 
@@ -298,23 +297,19 @@ std::shared_ptr<PreparedModel> prepareModel(const fs::path& path, double scale,
   m->adds_samples = pcl::make_shared<CloudXYZ>();
   for (const auto& s : pcl::icf::sampleSurface(m->icf->mesh(), 2000, 13))
     m->adds_samples->push_back(pcl::PointXYZ(s.point.x(), s.point.y(), s.point.z()));
-  m->adds_tree.setInputCloud(m->adds_samples);
   return m;
 }
 
-/** ADD-S over the model's 2000 samples: mean distance from each truly posed sample to the
- * nearest estimated-posed sample (metres). */
-double addS(PreparedModel& model, const Eigen::Isometry3d& est, const Eigen::Isometry3d& truth) {
-  const Eigen::Matrix4f to_est_frame = (est.inverse() * truth).matrix().cast<float>();
-  pcl::Indices index(1);
-  std::vector<float> sqr(1);
+/** ADD-S (metres): the mean, over the model's 2000 surface samples posed by the truth, of the
+ * exact distance to the surface of the model posed by the estimate (point-to-face through the
+ * model's index, so there is no sample-spacing floor: a pose that differs from the truth by a
+ * symmetry scores 0). */
+double addS(const PreparedModel& model, const Eigen::Isometry3d& est,
+            const Eigen::Isometry3d& truth) {
+  const Eigen::Isometry3f to_est_frame = (est.inverse() * truth).cast<float>();
   double sum = 0.0;
-  for (const auto& p : *model.adds_samples) {
-    pcl::PointXYZ q;
-    q.getVector3fMap() = (to_est_frame * p.getVector4fMap()).head<3>();
-    model.adds_tree.nearestKSearch(q, 1, index, sqr);
-    sum += std::sqrt(static_cast<double>(sqr[0]));
-  }
+  for (const auto& p : *model.adds_samples)
+    sum += model.icf->index().closestFace(to_est_frame * p.getVector3fMap()).distance;
   return sum / static_cast<double>(model.adds_samples->size());
 }
 
@@ -501,6 +496,7 @@ struct Row {
   double t_mm = 0, r_deg = 0, r_nosym_deg = 0, adds_mm = 0, ms = 0;
   bool success = false, converged = false;
   std::string detail;
+  Eigen::Matrix4f object_pose = Eigen::Matrix4f::Identity();  ///< the estimate, model -> scene
 };
 
 struct Summary {
@@ -621,7 +617,8 @@ void writePlots(
        << "set style data histogram\nset style histogram clustered gap 1\n"
        << "set style fill solid 0.85 border -1\nset boxwidth 0.9\nset logscale y\n"
        << "set grid ytics\nset key outside right top vertical\nset xtics nomirror\n"
-       << "set datafile missing '?'\n";
+       << "set datafile missing '?'\n"
+       << "set xrange [-0.6:" << static_cast<double>(groups.size()) - 0.4 << "]\n";
     const char* what[2] = {"mean", "std"};
     const char* title[2] = {"Mean error", "Standard deviation of the error"};
     // A standard deviation needs two cases in some group.
@@ -874,6 +871,7 @@ int main(int argc, char** argv) {
         row.ms = run.ms;
         row.converged = run.converged;
         row.detail = run.detail;
+        row.object_pose = run.object_pose;
         const Eigen::Isometry3d est(run.object_pose.cast<double>());
         const t::PoseError e = t::poseError(est * reference, c.truth * reference, symmetry);
         const t::PoseError strict =
@@ -901,13 +899,20 @@ int main(int argc, char** argv) {
   {
     std::ofstream csv(out_dir / (name + "_cases.csv"));
     csv << "case,group,method,points,t_err_mm,r_err_deg,r_err_nosym_deg,adds_mm,time_ms,"
-           "success,converged,detail\n";
+           "success,converged,detail,pose_row_major\n";
     csv.precision(6);
-    for (const Row& r : rows)
+    for (const Row& r : rows) {
       csv << csvEscape(r.case_name) << "," << csvEscape(r.group) << "," << r.method << ","
           << r.points << "," << r.t_mm << "," << r.r_deg << "," << r.r_nosym_deg << "," << r.adds_mm
           << "," << r.ms << "," << r.success << "," << r.converged << "," << csvEscape(r.detail)
-          << "\n";
+          << ",";
+      // The estimated pose (model -> scene), the top 3 rows; full precision to recompute.
+      csv.precision(9);
+      for (int i = 0; i < 12; ++i)
+        csv << (i ? " " : "") << r.object_pose(i / 4, i % 4);
+      csv.precision(6);
+      csv << "\n";
+    }
   }
   auto rowsOf = [&rows](const std::string& group, const std::string& method) {
     std::vector<const Row*> selected;

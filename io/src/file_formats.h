@@ -66,8 +66,9 @@ pcl::PolygonMesh readObjFile(const std::string& path);
 pcl::PolygonMesh readStlFile(const std::string& path);
 
 /** Reads a PCD file (ascii, binary or binary_compressed) into a PCLPointCloud2, as PCL's
- * reader would, with a strict header: printable ASCII lines; FIELDS, SIZE, TYPE [, COUNT] with
- * one entry per field; SIZE in {1, 2, 4, 8}, TYPE in {I, U, F} (F with 4 or 8), COUNT >= 1;
+ * reader would, with a strict header: printable ASCII lines (comments excepted); FIELDS, SIZE,
+ * TYPE [, COUNT] with one entry per field; TYPE I or U with SIZE 1, 2 or 4, F with 4 or 8;
+ * COUNT >= 1;
  * WIDTH x HEIGHT = POINTS at most \a max_points; DATA ascii, binary or binary_compressed.
  * The body is checked against the header before anything is allocated: binary data as long
  * as the points need, compressed sizes that the file and the points agree with (LZF cannot

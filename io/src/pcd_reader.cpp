@@ -163,11 +163,14 @@ void readPcdFile(const std::string& path, std::uint64_t max_points, pcl::PCLPoin
     ++line_number;
     const std::string where =
         path + ": PCD header line " + std::to_string(line_number) + " '" + printable(line) + "' ";
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#')
+      continue;  // a comment may hold any text (UTF-8 names, say)
     for (const char c : line)
       if (!((c >= 32 && c < 127) || c == '\t' || c == '\r'))
         throw FileError(where + "has a byte that is not printable text (malformed PCD file)");
     const auto words = splitWords(line);
-    if (words.empty() || words[0][0] == '#' || words[0] == "VERSION")
+    if (words[0] == "VERSION")
       continue;
     const std::string& key = words[0];
     const std::vector<std::string> rest(words.begin() + 1, words.end());

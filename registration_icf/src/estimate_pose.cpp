@@ -191,7 +191,7 @@ IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>
   std::vector<Eigen::Vector3f> points;
   points.reserve(scene_points.size());
   for (const auto& p : scene_points)
-    if (p.allFinite() && p.cwiseAbs().maxCoeff() <= kMaxPointCoordinate)
+    if (isUsablePoint(p))
       points.push_back(p);
   result.points = points.size();
   if (points.size() < std::max<std::size_t>(params.acceptance.min_inliers, 6)) {

@@ -11,6 +11,7 @@
 #include <pcl/icf/refinement.h>
 #include <pcl/icf/sample_consensus_alignment.h>
 #include <pcl/icf/thesis_search.h>
+#include <pcl/icf/usable_point.h>
 
 #include <Eigen/Geometry>
 
@@ -124,12 +125,6 @@ struct IcfResult {
 
   bool accepted() const { return status == IcfStatus::Accepted; }
 };
-
-/** \brief Scene points with a coordinate beyond this (scene units: 1000 km in metres) are
- * left out of estimatePose like NaN ones: no sensor measures them, float geometry on them
- * overflows (their squared distances are infinite), and a few of them would drag every
- * centroid away from the object. */
-constexpr float kMaxPointCoordinate = 1e6f;
 
 /** \brief Estimate the model's pose in a cluster of scene points (doc/icf.md): search (or
  * start from \a guess), refine by iterative closest face, measure, accept or reject.

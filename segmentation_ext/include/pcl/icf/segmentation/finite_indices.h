@@ -4,7 +4,7 @@
  */
 #pragma once
 
-#include <pcl/common/point_tests.h>
+#include <pcl/icf/usable_point.h>
 #include <pcl/point_cloud.h>
 #include <pcl/types.h>
 
@@ -12,10 +12,12 @@ namespace pcl {
 namespace icf {
 namespace segmentation {
 
-/** \brief Indices of the points of \a cloud whose x, y and z are all finite, in increasing order.
+/** \brief Indices of the points of \a cloud whose x, y and z are all finite and within
+ * +-kMaxPointCoordinate (isUsablePoint), in increasing order.
  *
  * Organized Kinect clouds mark missing depth with NaN; PCL's kd-trees and sample consensus
- * models misbehave on such points, so every stage of the table-top segmentation works on an
+ * models misbehave on such points, and a corrupt return at 1e30 would wreck the voxel grid and
+ * the plane fit, so every stage of the table-top segmentation works on an
  * index list of finite points. An empty cloud gives an empty list. O(n), no allocation beyond
  * the result.
  *
@@ -30,7 +32,7 @@ pcl::Indices finiteIndices(const pcl::PointCloud<PointT>& cloud) {
   indices.reserve(cloud.size());
   const auto n = static_cast<pcl::index_t>(cloud.size());
   for (pcl::index_t i = 0; i < n; ++i) {
-    if (pcl::isXYZFinite(cloud[i]))
+    if (isUsablePoint(cloud[i].getVector3fMap()))
       indices.push_back(i);
   }
   return indices;

@@ -14,23 +14,38 @@
 #include <numeric>
 #include <sstream>
 #include <utility>
+#include <vector>
 
 namespace pcl {
 namespace icf {
 namespace segmentation {
 namespace detail {
 
-/** Diagonal of the axis-aligned bounding box of cloud[indices] (finite points). */
+/** Diagonal of the box that holds, on each axis, the coordinates between the 1st and the 99th
+ * percentile of the points (at most 20,000 of them, evenly strided): the scene's extent without
+ * its stray points, so that a few wild returns (a point at 1e30, say) cannot make a scene in
+ * metres look like millimetres. 0 for no points. */
 template <typename PointT>
-double boundingBoxDiagonal(const pcl::PointCloud<PointT>& cloud, const pcl::Indices& indices) {
-  Eigen::Array3f lo = Eigen::Array3f::Constant(std::numeric_limits<float>::max());
-  Eigen::Array3f hi = Eigen::Array3f::Constant(std::numeric_limits<float>::lowest());
-  for (const pcl::index_t i : indices) {
-    const Eigen::Array3f p = cloud[i].getArray3fMap();
-    lo = lo.min(p);
-    hi = hi.max(p);
+double robustExtent(const pcl::PointCloud<PointT>& cloud, const pcl::Indices& indices) {
+  if (indices.empty())
+    return 0.0;
+  const std::size_t stride = std::max<std::size_t>(1, indices.size() / 20000);
+  std::vector<float> axis;
+  axis.reserve(indices.size() / stride + 1);
+  Eigen::Vector3d span;
+  for (int a = 0; a < 3; ++a) {
+    axis.clear();
+    for (std::size_t k = 0; k < indices.size(); k += stride)
+      axis.push_back(cloud[indices[k]].getVector3fMap()[a]);
+    const auto rank = [&axis](double q) {
+      const auto at = axis.begin() + static_cast<long>(q * static_cast<double>(axis.size() - 1));
+      std::nth_element(axis.begin(), at, axis.end());
+      return static_cast<double>(*at);
+    };
+    const double lo = rank(0.01);
+    span[a] = rank(0.99) - lo;
   }
-  return indices.empty() ? 0.0 : static_cast<double>((hi - lo).matrix().norm());
+  return span.norm();
 }
 
 /** Median distance between horizontally adjacent finite pixels of an organized cloud, over every
@@ -86,9 +101,10 @@ pcl::icf::segmentation::TabletopSegmentation pcl::icf::segmentation::segmentTabl
     return finish(TabletopStatus::NoFinitePoints, msg.str());
   }
   if (params.max_scene_extent > 0.0) {
-    const double extent = detail::boundingBoxDiagonal(cloud, finite);
+    const double extent = detail::robustExtent(cloud, finite);
     if (extent > params.max_scene_extent) {
-      msg << "the scene's bounding box diagonal is " << extent << " units, more than "
+      msg << "the scene's extent (bounding box of the 1st-99th percentile per axis) is " << extent
+          << " units, more than "
           << "max_scene_extent = " << params.max_scene_extent
           << ": the cloud looks like millimetres while the parameters are in metres; scale the "
              "cloud by 0.001 (or raise max_scene_extent for a large scene in metres)";

@@ -21,6 +21,7 @@
 // Writes DIR/models/<Model>.ply (binary PLY, metres), DIR/<kind>/<case>.pcd (binary_compressed PCD,
 // PointXYZ, camera at the origin) and the manifest (default DIR/manifest.txt) whose paths are
 // relative to the manifest's directory. Exit codes: 0 written, 2 bad usage or I/O error.
+#include "comma_list.h"
 #include "support/depth_camera.h"
 #include "support/mesh_geometry.h"
 #include "support/pose_error.h"
@@ -66,16 +67,6 @@ int usage(const char* program) {
                "thesis models, seed 2013, manifest DIR/manifest.txt.\n",
                program);
   return 2;
-}
-
-std::vector<std::string> splitComma(const std::string& s) {
-  std::vector<std::string> parts;
-  std::stringstream in(s);
-  std::string part;
-  while (std::getline(in, part, ','))
-    if (!part.empty())
-      parts.push_back(part);
-  return parts;
 }
 
 /** The manifest's symmetry spec of a model (doc/DATASETS.md), from its name. */
@@ -179,7 +170,7 @@ int main(int argc, char** argv) {
       else if (arg == "--cases")
         opt.cases = std::stoi(value());
       else if (arg == "--models")
-        opt.models = splitComma(value());
+        opt.models = pcl_icf_tools::splitComma(value());
       else if (arg == "--seed")
         opt.seed = std::stoull(value());
       else if (arg == "-h" || arg == "--help")

@@ -30,6 +30,37 @@ namespace icf {
 namespace io {
 namespace detail {
 
+/** The bytes of a file; FileError when it cannot be read. */
+std::string readWholeFile(const std::string& path);
+
+/** A token for an error message: at most 32 characters, bytes that are not printable ASCII
+ * shown as '?'. */
+inline std::string printable(const std::string& token) {
+  std::string out;
+  for (const char c : token.substr(0, 32))
+    out += (c >= 32 && c < 127) ? c : '?';
+  if (token.size() > 32)
+    out += "...";
+  return out;
+}
+
+/** The words of a header line, split at spaces, tabs and carriage returns (CRLF files). */
+inline std::vector<std::string> splitWords(const std::string& line) {
+  const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+  std::vector<std::string> words;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && blank(line[i]))
+      ++i;
+    const std::size_t start = i;
+    while (i < line.size() && !blank(line[i]))
+      ++i;
+    if (i > start)
+      words.push_back(line.substr(start, i - start));
+  }
+  return words;
+}
+
 /** Largest number of vertices or faces the mesh readers accept (a lying header fails fast). */
 constexpr std::uint64_t kMaxMeshElements = 100000000;
 

@@ -22,23 +22,6 @@ namespace io {
 namespace detail {
 namespace {
 
-std::string readWholeFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in.eof() && in.fail())
-    throw FileError(path + ": read error");
-  return data;
-}
-
-std::string printable(const std::string& token) {
-  std::string out;
-  for (const char c : token.substr(0, 32))
-    out += (c >= 32 && c < 127) ? c : '?';
-  if (token.size() > 32)
-    out += "...";
-  return out;
-}
-
 using Token = std::pair<const char*, const char*>;
 
 /** The words of one line (split at spaces and tabs), after a '#' comment is cut off when

@@ -25,30 +25,6 @@ constexpr std::uint64_t kMaxPointBytes = 1 << 20;
 /** LZF turns 3 bytes into at most 264 (a back reference of maximal length). */
 constexpr std::uint64_t kMaxLzfRatio = 88;
 
-std::string printable(const std::string& token) {
-  std::string out;
-  for (const char c : token.substr(0, 32))
-    out += (c >= 32 && c < 127) ? c : '?';
-  if (token.size() > 32)
-    out += "...";
-  return out;
-}
-
-std::vector<std::string> splitWords(const std::string& line) {
-  std::vector<std::string> words;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r'))
-      ++i;
-    const std::size_t start = i;
-    while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r')
-      ++i;
-    if (i > start)
-      words.push_back(line.substr(start, i - start));
-  }
-  return words;
-}
-
 template <typename T>
 bool parseNumber(const std::string& word, T& value) {
   const auto [ptr, ec] = std::from_chars(word.data(), word.data() + word.size(), value);

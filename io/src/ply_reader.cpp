@@ -116,30 +116,6 @@ void integerRange(Scalar t, double& lo, double& hi) {
   }
 }
 
-std::string printable(const std::string& token) {
-  std::string out;
-  for (const char c : token.substr(0, 32))
-    out += (c >= 32 && c < 127) ? c : '?';
-  if (token.size() > 32)
-    out += "...";
-  return out;
-}
-
-std::vector<std::string> splitWords(const std::string& line) {
-  std::vector<std::string> words;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t'))
-      ++i;
-    const std::size_t start = i;
-    while (i < line.size() && line[i] != ' ' && line[i] != '\t')
-      ++i;
-    if (i > start)
-      words.push_back(line.substr(start, i - start));
-  }
-  return words;
-}
-
 /** The bytes of the PLY body as typed values: ascii tokens or binary fields. */
 class Body {
  public:
@@ -389,6 +365,8 @@ Header parseHeader(const std::string& data, const std::string& path) {
   return h;
 }
 
+}  // namespace
+
 std::string readWholeFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -396,8 +374,6 @@ std::string readWholeFile(const std::string& path) {
     throw FileError(path + ": read error");
   return data;
 }
-
-}  // namespace
 
 PlyContents readPlyFile(const std::string& path, bool read_faces, std::uint64_t max_vertices) {
   const std::string data = readWholeFile(path);

@@ -28,20 +28,11 @@ namespace io {
 namespace {
 
 using Cloud = pcl::PointCloud<pcl::PointXYZRGBA>;
+using detail::printable;
 
 /** Text files larger than this are refused before reading (4 GiB of "x y z" lines is well
  * above kMaxScenePoints anyway). */
 constexpr std::uintmax_t kMaxTextBytes = std::uintmax_t(4) << 30;
-
-/** A token as it may be shown in a one-line message: at most 32 printable characters. */
-std::string printable(const std::string& token) {
-  std::string out;
-  for (const char c : token.substr(0, 32))
-    out += (c >= 32 && c < 127) ? c : '?';
-  if (token.size() > 32)
-    out += "...";
-  return out;
-}
 
 /** The header lines of a text header (PCD, PLY) up to and including the line that starts with
  * \a last_keyword, at most 64 KiB; empty when that line is not found. */

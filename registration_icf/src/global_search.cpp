@@ -114,18 +114,28 @@ Eigen::Vector3f robustCentroid(const std::vector<Eigen::Vector3f>& points) {
   return count > 0 ? Eigen::Vector3f((sum / static_cast<double>(count)).cast<float>()) : median;
 }
 
-std::vector<SearchAnchor> translationAnchors(const std::vector<Eigen::Vector3f>& points,
-                                             float model_radius, const GlobalSearchParams& params,
-                                             std::uint64_t seed) {
-  const Eigen::Vector3f centroid = robustCentroid(points);
-  // Spread: the 90th percentile of the distances from the centroid, so that a few outliers
-  // (5% within +-5 cm along the ray in a Kinect cut-out) do not count as another object.
+float clusterSpread(const std::vector<Eigen::Vector3f>& points, const Eigen::Vector3f& centroid) {
+  if (points.empty())
+    return 0.f;
   std::vector<float> spread(points.size());
   for (std::size_t i = 0; i < points.size(); ++i)
     spread[i] = (points[i] - centroid).norm();
   const std::size_t q = spread.size() * 9 / 10;
   std::nth_element(spread.begin(), spread.begin() + static_cast<std::ptrdiff_t>(q), spread.end());
-  if (spread[q] <= params.merged_cluster_ratio * model_radius)
+  return spread[q];
+}
+
+bool spreadsWiderThanModel(const std::vector<Eigen::Vector3f>& points, float model_radius,
+                           const GlobalSearchParams& params) {
+  return !points.empty() &&
+         clusterSpread(points, robustCentroid(points)) > params.merged_cluster_ratio * model_radius;
+}
+
+std::vector<SearchAnchor> translationAnchors(const std::vector<Eigen::Vector3f>& points,
+                                             float model_radius, const GlobalSearchParams& params,
+                                             std::uint64_t seed) {
+  const Eigen::Vector3f centroid = robustCentroid(points);
+  if (clusterSpread(points, centroid) <= params.merged_cluster_ratio * model_radius)
     return {SearchAnchor{centroid, randomSubset(points, params.subsample, seed)}};
 
   // A merged cluster: windows on a grid of pitch anchor_spacing x model radius, each holding

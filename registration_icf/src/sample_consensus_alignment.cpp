@@ -320,9 +320,8 @@ SacResult sampleConsensusAlign(const SacModelFeatures& model,
   {
     std::lock_guard<std::mutex> lock(randMutex());
     std::srand(static_cast<unsigned>(params.seed ^ (params.seed >> 32)));
-    if (params.method == SacMethod::Prerejective) {
-      pcl::SampleConsensusPrerejective<pcl::PointNormal, pcl::PointNormal, pcl::FPFHSignature33>
-          sac;
+    // What both classes share; then each one's own settings, align, and its answer.
+    const auto run = [&](auto& sac) {
       sac.setInputSource(keypoints);
       sac.setSourceFeatures(features);
       sac.setInputTarget(model.points);
@@ -330,30 +329,26 @@ SacResult sampleConsensusAlign(const SacModelFeatures& model,
       sac.setMaximumIterations(params.max_iterations);
       sac.setNumberOfSamples(params.samples_per_hypothesis);
       sac.setCorrespondenceRandomness(params.correspondence_randomness);
-      sac.setSimilarityThreshold(params.similarity_threshold);
-      sac.setMaxCorrespondenceDistance(params.max_correspondence_distance);
-      sac.setInlierFraction(params.inlier_fraction);
       sac.align(aligned);
       found = sac.hasConverged();
       transform = sac.getFinalTransformation();
+    };
+    if (params.method == SacMethod::Prerejective) {
+      pcl::SampleConsensusPrerejective<pcl::PointNormal, pcl::PointNormal, pcl::FPFHSignature33>
+          sac;
+      sac.setSimilarityThreshold(params.similarity_threshold);
+      sac.setMaxCorrespondenceDistance(params.max_correspondence_distance);
+      sac.setInlierFraction(params.inlier_fraction);
+      run(sac);
     } else {
       pcl::SampleConsensusInitialAlignment<pcl::PointNormal, pcl::PointNormal, pcl::FPFHSignature33>
           sac;
-      sac.setInputSource(keypoints);
-      sac.setSourceFeatures(features);
-      sac.setInputTarget(model.points);
-      sac.setTargetFeatures(model.features);
-      sac.setMaximumIterations(params.max_iterations);
-      sac.setNumberOfSamples(params.samples_per_hypothesis);
-      sac.setCorrespondenceRandomness(params.correspondence_randomness);
       sac.setMinSampleDistance(params.min_sample_distance);
       // SAC-IA's TruncatedError compares the *squared* nearest-neighbour distance with this
       // threshold (PCL 1.13, ia_ransac.h): pass the distance squared, as PCL's tutorial does.
       sac.setMaxCorrespondenceDistance(params.max_correspondence_distance *
                                        params.max_correspondence_distance);
-      sac.align(aligned);
-      found = sac.hasConverged();
-      transform = sac.getFinalTransformation();
+      run(sac);
     }
   }
   if (!found || !transform.allFinite()) {

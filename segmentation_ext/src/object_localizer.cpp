@@ -2,6 +2,7 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
+#include <pcl/icf/global_search.h>
 #include <pcl/icf/segmentation/colour_histogram.h>
 #include <pcl/icf/segmentation/view_grid.h>
 #include <pcl/point_types.h>
@@ -235,25 +236,17 @@ ClusterLocalization judgeCluster(const SceneView& view, const ViewGrid& grid,
   return c;
 }
 
-/** The same test as the global search's merged-cluster switch: 10% of the points farther from
- * their centroid than merged_cluster_ratio x the model's radius. */
-bool spreadsWiderThanModel(const SceneView& view, const pcl::PointIndices& cluster,
-                           const IcfModel& model, const LocalizerParams& params) {
+/** The global search's merged-cluster test (spreadsWiderThanModel) on one cluster; clusters
+ * of fewer than 10 points count as single. */
+bool clusterLooksMerged(const SceneView& view, const pcl::PointIndices& cluster,
+                        const IcfModel& model, const LocalizerParams& params) {
+  if (cluster.indices.size() < 10)
+    return false;
   std::vector<Eigen::Vector3f> points;
+  points.reserve(cluster.indices.size());
   for (const auto i : cluster.indices)
     points.push_back(view.points[static_cast<std::size_t>(i)]);
-  if (points.size() < 10)
-    return false;
-  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
-  for (const auto& p : points)
-    centroid += p;
-  centroid /= static_cast<float>(points.size());
-  std::vector<float> spread;
-  for (const auto& p : points)
-    spread.push_back((p - centroid).norm());
-  const std::size_t q = spread.size() * 9 / 10;
-  std::nth_element(spread.begin(), spread.begin() + static_cast<std::ptrdiff_t>(q), spread.end());
-  return spread[q] > params.icf.global.merged_cluster_ratio * model.radius();
+  return spreadsWiderThanModel(points, model.radius(), params.icf.global);
 }
 
 pcl::PointCloud<pcl::PointXYZRGBA> colouredCloud(const SceneView& view) {
@@ -328,7 +321,7 @@ Localization localizeInView(const SceneView& view, TabletopSegmentation segmenta
   std::vector<int> parents(clusters.size(), -1);
   std::vector<bool> single(clusters.size(), true);
   for (std::size_t k = 0; k < clusters.size(); ++k)
-    single[k] = !spreadsWiderThanModel(view, clusters[k], model, params);
+    single[k] = !clusterLooksMerged(view, clusters[k], model, params);
   if (params.split_merged) {
     pcl::PointCloud<pcl::PointXYZRGBA> coloured;
     const std::size_t base = clusters.size();

@@ -81,6 +81,17 @@ double fieldKernelScore(const ClosestPointField& field,
 /** \brief Centroid of a cluster that ignores a few far stray points (doc/icf.md section 4). */
 Eigen::Vector3f robustCentroid(const std::vector<Eigen::Vector3f>& points);
 
+/** \brief The 90th percentile of the points' distances from \a centroid: the cluster's size
+ * without the few outliers of a Kinect cut-out (0 for no points). */
+float clusterSpread(const std::vector<Eigen::Vector3f>& points, const Eigen::Vector3f& centroid);
+
+/** \brief True when a cluster holds more than one object (or more than this one): its spread
+ * around its robust centroid exceeds params.merged_cluster_ratio x \a model_radius. The global
+ * search then searches windows (translationAnchors); the localizer splits such a cluster by
+ * convexity. */
+bool spreadsWiderThanModel(const std::vector<Eigen::Vector3f>& points, float model_radius,
+                           const GlobalSearchParams& params);
+
 /** \brief Where the global search places the model's visible centroid, and the scene points
  * that score it there. */
 struct SearchAnchor {

@@ -8,6 +8,7 @@ set grid ytics
 set key outside right top vertical
 set xtics nomirror
 set datafile missing '?'
+set xrange [-0.6:4.6]
 set output 'doc/img/synthetic_tabletop_mean.png'
 set multiplot layout 2,1 title 'Mean error per group and method (synthetic_tabletop; log scale)'
 set ylabel '(a) translation error (mm)'

@@ -8,6 +8,7 @@ set grid ytics
 set key outside right top vertical
 set xtics nomirror
 set datafile missing '?'
+set xrange [-0.6:3.6]
 set output 'doc/img/synthetic_views_mean.png'
 set multiplot layout 2,1 title 'Mean error per group and method (synthetic_views; log scale)'
 set ylabel '(a) translation error (mm)'

@@ -1,0 +1,18 @@
+set terminal pngcairo noenhanced size 1400,1000 font 'sans,11'
+set style data histogram
+set style histogram clustered gap 1
+set style fill solid 0.85 border -1
+set boxwidth 0.9
+set logscale y
+set grid ytics
+set key outside right top vertical
+set xtics nomirror
+set datafile missing '?'
+set xrange [-0.6:1.6]
+set output 'doc/img/ycbv_mean.png'
+set multiplot layout 2,1 title 'Mean error per group and method (ycbv; log scale)'
+set ylabel '(a) translation error (mm)'
+plot 'doc/bench/ycbv_plot.dat' using 2:xtic(1) title 'icf-fast', 'doc/bench/ycbv_plot.dat' using 6 title 'icf-thesis', 'doc/bench/ycbv_plot.dat' using 10 title 'icf-fast+sac', 'doc/bench/ycbv_plot.dat' using 14 title 'icf-sac', 'doc/bench/ycbv_plot.dat' using 18 title 'icp-p2p', 'doc/bench/ycbv_plot.dat' using 22 title 'icp-p2plane', 'doc/bench/ycbv_plot.dat' using 26 title 'sacia+icp', 'doc/bench/ycbv_plot.dat' using 30 title 'prerej+icp'
+set ylabel '(b) rotation error (deg)'
+plot 'doc/bench/ycbv_plot.dat' using 4:xtic(1) title 'icf-fast', 'doc/bench/ycbv_plot.dat' using 8 title 'icf-thesis', 'doc/bench/ycbv_plot.dat' using 12 title 'icf-fast+sac', 'doc/bench/ycbv_plot.dat' using 16 title 'icf-sac', 'doc/bench/ycbv_plot.dat' using 20 title 'icp-p2p', 'doc/bench/ycbv_plot.dat' using 24 title 'icp-p2plane', 'doc/bench/ycbv_plot.dat' using 28 title 'sacia+icp', 'doc/bench/ycbv_plot.dat' using 32 title 'prerej+icp'
+unset multiplot

@@ -5,6 +5,7 @@
 // labels (precision/recall per object segment).
 #include "test_paths.h"
 
+#include <pcl/common/point_tests.h>
 #include <pcl/icf/segmentation/tabletop_segmentation.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/point_types.h>
@@ -302,6 +303,29 @@ TEST(VoxelDownsample, ReducesAndKeepsFrame) {
   EXPECT_LE(reduced.size(), 35u * 35u);
   EXPECT_EQ(reduced.height, 1u);
   EXPECT_TRUE(reduced.sensor_origin_.isApprox(scene.cloud.sensor_origin_));
+}
+
+TEST(VoxelDownsample, TooManyVoxelsGivesTheFiniteIndexedPoints) {
+  // A stray point 1e5 m away with 1 cm voxels: 1e21 cells, beyond VoxelGrid's int32 voxel
+  // index (PCL would return its whole input, NaN and unindexed points included). Expected: the
+  // indexed finite points themselves, every one finite.
+  SyntheticScene<pcl::PointXYZ> scene;
+  scene.addTable();
+  scene.cloud.push_back(makePoint<pcl::PointXYZ>(1e5f, 1e5f, 1e5f));
+  scene.cloud.push_back(makePoint<pcl::PointXYZ>(std::numeric_limits<float>::quiet_NaN(), 0, 0));
+  scene.cloud.width = static_cast<std::uint32_t>(scene.cloud.size());
+  scene.cloud.height = 1;
+  pcl::Indices all(scene.cloud.size());
+  for (std::size_t i = 0; i < all.size(); ++i)
+    all[i] = static_cast<pcl::index_t>(i);
+  pcl::Indices some(all.begin() + 10, all.end());  // the first 10 points left out
+  seg::VoxelParams p;
+  p.voxel_size = 0.01;
+  const auto out = seg::voxelDownsample(scene.cloud, some, p);
+  EXPECT_EQ(out.size(), some.size() - 1);  // all but the NaN point
+  for (const auto& q : out)
+    EXPECT_TRUE(pcl::isXYZFinite(q));
+  EXPECT_TRUE(out.back().getVector3fMap().isApprox(Eigen::Vector3f::Constant(1e5f)));
 }
 
 TEST(TablePlane, FindsSyntheticTableOrientedTowardsSensor) {

@@ -17,6 +17,7 @@
 
 #include <Eigen/Geometry>
 
+#include <filesystem>
 #include <memory>
 #include <string>
 

@@ -51,6 +51,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -359,6 +360,8 @@ int main(int argc, char** argv) {
     cases = readCases(o, groups);
     rows = runAll(cases, o, models);
   } catch (const std::exception& e) {
+    if (isatty(STDERR_FILENO))
+      std::fputs("\n", stderr);  // below the progress line
     std::fprintf(stderr, "pcl_icf_bench: %s\n", e.what());
     return 2;
   }

@@ -5,6 +5,7 @@
 #include <pcl/icf/global_search.h>
 #include <pcl/icf/segmentation/colour_histogram.h>
 #include <pcl/icf/segmentation/view_grid.h>
+#include <pcl/icf/usable_point.h>
 #include <pcl/point_types.h>
 #include <pcl/icf/segmentation/impl/object_localizer.hpp>
 
@@ -157,7 +158,7 @@ ClusterLocalization judgeCluster(const SceneView& view, const ViewGrid& grid,
   std::vector<Eigen::Vector3f> points;
   points.reserve(indices.indices.size());
   for (const auto i : indices.indices)
-    if (view.points[static_cast<std::size_t>(i)].allFinite())
+    if (isUsablePoint(view.points[static_cast<std::size_t>(i)]))
       points.push_back(view.points[static_cast<std::size_t>(i)]);
   IcfParams icf = params.icf;
   icf.threads = icf_threads;
@@ -293,7 +294,7 @@ Localization localizeInView(const SceneView& view, TabletopSegmentation segmenta
   } else {
     pcl::PointIndices all;
     for (std::size_t i = 0; i < view.points.size(); ++i)
-      if (view.points[i].allFinite())
+      if (isUsablePoint(view.points[i]))
         all.indices.push_back(static_cast<pcl::index_t>(i));
     if (all.indices.empty()) {
       out.status = LocalizationStatus::BadScene;
@@ -309,7 +310,7 @@ Localization localizeInView(const SceneView& view, TabletopSegmentation segmenta
   std::vector<Eigen::Vector3f> seen;
   seen.reserve(view.points.size());
   for (std::size_t i = 0; i < view.points.size(); ++i)
-    if (!is_table[i] && view.points[i].allFinite())
+    if (!is_table[i] && isUsablePoint(view.points[i]))
       seen.push_back(view.points[i]);
   const ViewGrid grid(seen, view.camera, params.view_bin_angle);
 

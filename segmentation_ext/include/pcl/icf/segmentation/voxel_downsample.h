@@ -32,8 +32,9 @@ struct VoxelParams {
  * \param[in] params  see VoxelParams.
  * \return an unorganized, dense cloud (height 1) with the header, sensor origin and orientation
  *         of \a cloud; its point order is deterministic (VoxelGrid sorts by voxel index). When the
- *         voxel is so small that VoxelGrid's integer voxel indices would overflow, VoxelGrid warns
- *         and the indexed finite points are returned unchanged.
+ *         points span more voxels than VoxelGrid can index (2^31: a tiny voxel, or a stray point
+ *         far away), a warning is logged and the indexed finite points are returned unchanged
+ *         (PCL's VoxelGrid would return its whole input, NaN points included).
  * \throws std::invalid_argument when \a params is invalid or an index is out of range.
  *
  * \code

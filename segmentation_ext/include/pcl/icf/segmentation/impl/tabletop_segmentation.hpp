@@ -29,7 +29,7 @@ template <typename PointT>
 double robustExtent(const pcl::PointCloud<PointT>& cloud, const pcl::Indices& indices) {
   if (indices.empty())
     return 0.0;
-  const std::size_t stride = std::max<std::size_t>(1, indices.size() / 20000);
+  const std::size_t stride = (indices.size() + 19999) / 20000;  // at most 20,000 points
   std::vector<float> axis;
   axis.reserve(indices.size() / stride + 1);
   Eigen::Vector3d span;
@@ -37,13 +37,15 @@ double robustExtent(const pcl::PointCloud<PointT>& cloud, const pcl::Indices& in
     axis.clear();
     for (std::size_t k = 0; k < indices.size(); k += stride)
       axis.push_back(cloud[indices[k]].getVector3fMap()[a]);
-    const auto rank = [&axis](double q) {
-      const auto at = axis.begin() + static_cast<long>(q * static_cast<double>(axis.size() - 1));
+    // As many values cut at each end: the 1st percentile's rank from either side.
+    const std::size_t cut = (axis.size() - 1) / 100;
+    const auto valueAt = [&axis](std::size_t rank) {
+      const auto at = axis.begin() + static_cast<std::ptrdiff_t>(rank);
       std::nth_element(axis.begin(), at, axis.end());
       return static_cast<double>(*at);
     };
-    const double lo = rank(0.01);
-    span[a] = rank(0.99) - lo;
+    const double lo = valueAt(cut);
+    span[a] = valueAt(axis.size() - 1 - cut) - lo;
   }
   return span.norm();
 }

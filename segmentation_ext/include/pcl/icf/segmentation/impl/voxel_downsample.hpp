@@ -5,11 +5,43 @@
 #pragma once
 
 #include <pcl/common/io.h>
+#include <pcl/console/print.h>
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/icf/segmentation/voxel_downsample.h>
 #include <pcl/icf/segmentation/impl/segmentation_common.hpp>
 
+#include <cmath>
+#include <cstdint>
+#include <limits>
 #include <memory>
+
+namespace pcl {
+namespace icf {
+namespace segmentation {
+namespace detail {
+
+/** True when pcl::VoxelGrid could index the voxels of cloud[indices] with \a leaf: PCL 1.13
+ * refuses more than INT32_MAX cells by returning its whole input cloud (NaN and unindexed
+ * points included), and computes that cell count in int64 arithmetic that a far stray point
+ * overflows; here it is counted in double. */
+template <typename PointT>
+bool voxelGridFits(const pcl::PointCloud<PointT>& cloud, const pcl::Indices& indices, float leaf) {
+  Eigen::Array3f lo = Eigen::Array3f::Constant(std::numeric_limits<float>::max());
+  Eigen::Array3f hi = Eigen::Array3f::Constant(std::numeric_limits<float>::lowest());
+  for (const pcl::index_t i : indices) {
+    lo = lo.min(cloud[i].getArray3fMap());
+    hi = hi.max(cloud[i].getArray3fMap());
+  }
+  double cells = 1.0;
+  for (int a = 0; a < 3; ++a)
+    cells *= std::floor((static_cast<double>(hi[a]) - lo[a]) / leaf) + 1.0;
+  return cells <= static_cast<double>(std::numeric_limits<std::int32_t>::max());
+}
+
+}  // namespace detail
+}  // namespace segmentation
+}  // namespace icf
+}  // namespace pcl
 
 template <typename PointT>
 pcl::PointCloud<PointT> pcl::icf::segmentation::voxelDownsample(
@@ -19,13 +51,19 @@ pcl::PointCloud<PointT> pcl::icf::segmentation::voxelDownsample(
 
   pcl::PointCloud<PointT> out;
   auto finite = std::make_shared<pcl::Indices>(detail::finiteSubset(cloud, indices));
+  const auto leaf = static_cast<float>(params.voxel_size);
   if (params.voxel_size <= 0.0 || finite->empty()) {
+    pcl::copyPointCloud(cloud, *finite, out);
+  } else if (!detail::voxelGridFits(cloud, *finite, leaf)) {
+    PCL_WARN(
+        "[pcl::icf::segmentation::voxelDownsample] the points span more than 2^31 voxels "
+        "of %g (a stray point far away?): the finite points are used unchanged\n",
+        params.voxel_size);
     pcl::copyPointCloud(cloud, *finite, out);
   } else {
     pcl::VoxelGrid<PointT> grid;
     grid.setInputCloud(detail::nonOwning(cloud));
     grid.setIndices(finite);
-    const auto leaf = static_cast<float>(params.voxel_size);
     grid.setLeafSize(leaf, leaf, leaf);
     grid.filter(out);
   }

@@ -270,6 +270,20 @@ TEST_F(Tool, NoSegmentXyzClusterAndUnits) {
     EXPECT_LT(e.translation, kMaxTranslation);
     EXPECT_LT(e.rotation_deg, kMaxRotationDeg);
   }
+  {  // metres with one corrupt line at 1e5 m: still metres (the units check leaves stray
+     // points out), the stray point left out of the search, the pose right
+    const std::string stray = clusterAsXyz("stray.xyz", 1.0);
+    std::ofstream(stray, std::ios::app) << "100000 100000 100000\n";
+    const Result r = run(quote(stray) + " " + quote(demo("box5.ply")) + " --no-segment --json " +
+                         quote(path("stray.json")));
+    ASSERT_EQ(r.code, 0) << r.out << r.err;
+    EXPECT_EQ(r.err.find("millimetres"), std::string::npos) << r.err;
+    const json j = json::parse(slurp(path("stray.json")));
+    EXPECT_EQ(j["units"], "m");
+    const auto e = pcl::icf::test::poseError(poseOf(j["best"]), truth, model.symmetry);
+    EXPECT_LT(e.translation, kMaxTranslation);
+    EXPECT_LT(e.rotation_deg, kMaxRotationDeg);
+  }
   {  // the scene in millimetres (.asc), found by --units auto, poses reported in millimetres
     const Result r = run(quote(clusterAsXyz("c_mm.asc", 1000.0)) + " " + quote(demo("box5.ply")) +
                          " --no-segment --json " + quote(path("mm.json")));

@@ -37,8 +37,9 @@ struct TabletopParams {
   AboveTableParams above_table;
   /** The clustering of the points above the table. Defaults as in ClusterParams. */
   ClusterParams cluster;
-  /** Units check: when the extent of the finite points (the diagonal of the box between their
-   * 1st and 99th percentile on each axis, so that stray returns do not count) exceeds this
+  /** Units check: when the extent of the finite points (robustExtent: the diagonal of the box
+   * between their 1st and 99th percentile on each axis, so that stray returns do not count)
+   * exceeds this
    * (scene units), the scene is taken to be in millimetres while the parameters are in metres, and
    * the segmentation stops with status SceneUnitsSuspect. A Kinect-type scene in metres spans a few
    * metres; the same scene in millimetres spans thousands. 0 turns the check off. Must be

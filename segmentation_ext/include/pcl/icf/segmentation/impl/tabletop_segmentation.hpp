@@ -5,6 +5,7 @@
 #pragma once
 
 #include <pcl/console/print.h>
+#include <pcl/icf/segmentation/scene_extent.h>
 #include <pcl/icf/segmentation/tabletop_segmentation.h>
 #include <pcl/icf/segmentation/impl/segmentation_common.hpp>
 
@@ -20,35 +21,6 @@ namespace pcl {
 namespace icf {
 namespace segmentation {
 namespace detail {
-
-/** Diagonal of the box that holds, on each axis, the coordinates between the 1st and the 99th
- * percentile of the points (at most 20,000 of them, evenly strided): the scene's extent without
- * its stray points, so that a few wild returns (a point at 1e30, say) cannot make a scene in
- * metres look like millimetres. 0 for no points. */
-template <typename PointT>
-double robustExtent(const pcl::PointCloud<PointT>& cloud, const pcl::Indices& indices) {
-  if (indices.empty())
-    return 0.0;
-  const std::size_t stride = (indices.size() + 19999) / 20000;  // at most 20,000 points
-  std::vector<float> axis;
-  axis.reserve(indices.size() / stride + 1);
-  Eigen::Vector3d span;
-  for (int a = 0; a < 3; ++a) {
-    axis.clear();
-    for (std::size_t k = 0; k < indices.size(); k += stride)
-      axis.push_back(cloud[indices[k]].getVector3fMap()[a]);
-    // As many values cut at each end: the 1st percentile's rank from either side.
-    const std::size_t cut = (axis.size() - 1) / 100;
-    const auto valueAt = [&axis](std::size_t rank) {
-      const auto at = axis.begin() + static_cast<std::ptrdiff_t>(rank);
-      std::nth_element(axis.begin(), at, axis.end());
-      return static_cast<double>(*at);
-    };
-    const double lo = valueAt(cut);
-    span[a] = valueAt(axis.size() - 1 - cut) - lo;
-  }
-  return span.norm();
-}
 
 /** Median distance between horizontally adjacent finite pixels of an organized cloud, over every
  * fourth row; 0 when the cloud is not organized or has no such pair. */
@@ -103,7 +75,7 @@ pcl::icf::segmentation::TabletopSegmentation pcl::icf::segmentation::segmentTabl
     return finish(TabletopStatus::NoFinitePoints, msg.str());
   }
   if (params.max_scene_extent > 0.0) {
-    const double extent = detail::robustExtent(cloud, finite);
+    const double extent = robustExtent(cloud, finite);
     if (extent > params.max_scene_extent) {
       msg << "the scene's extent (bounding box of the 1st-99th percentile per axis) is " << extent
           << " units, more than "

@@ -1,0 +1,203 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#include "tool_results.h"
+
+#include "tool_output.h"
+
+#include <pcl/io/ply_io.h>
+
+#include <cstdio>
+#include <fstream>
+
+namespace pcl_icf_tool {
+
+namespace seg = pcl::icf::segmentation;
+
+namespace {
+
+json clusterJson(const seg::ClusterLocalization& c, int index, const Scene& scene) {
+  const Eigen::Matrix4d pose = scenePose(c, scene.metres_per_unit);
+  const Eigen::Quaterniond q = quaternionOf(pose);
+  json rows = json::array();
+  for (int r = 0; r < 4; ++r)
+    rows.push_back({pose(r, 0), pose(r, 1), pose(r, 2), pose(r, 3)});
+  json j;
+  j["cluster"] = index;
+  j["points"] = c.indices.indices.size();
+  j["pose"] = rows;
+  j["quaternion_wxyz"] = {q.w(), q.x(), q.y(), q.z()};
+  j["translation"] = {pose(0, 3), pose(1, 3), pose(2, 3)};
+  j["score"] = c.score;
+  j["inlier_ratio"] = c.icf.quality.inlier_ratio;
+  j["rmse"] = c.icf.quality.rmse / scene.metres_per_unit;
+  j["surface_coverage"] = c.icf.quality.surface_coverage;
+  j["accepted"] = c.accepted;
+  j["method"] = c.icf.method;
+  j["fallback_ran"] = c.icf.fallback_ran;
+  j["icf_status"] = pcl::icf::toString(c.icf.status);
+  j["reason"] = c.reason;
+  j["gate_far_points"] = c.gate_far_points;
+  j["free_space_violation"] = c.free_space_violation;
+  j["colour_similarity"] = c.colour_similarity ? json(*c.colour_similarity) : json(nullptr);
+  j["time_ms"] = c.icf.time_ms;
+  return j;
+}
+
+/** j.dump(2) with every array of numbers on one line ("pose": [[r00, r01, ...], ...]). A '['
+ * followed by a line break is never inside a JSON string, so strings are left alone. */
+std::string prettyJson(const json& j) {
+  const std::string text = j.dump(2);
+  std::string out;
+  out.reserve(text.size());
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '[' && i + 1 < text.size() && text[i + 1] == '\n') {
+      const std::size_t close = text.find(']', i);
+      const std::string body =
+          close == std::string::npos ? std::string() : text.substr(i + 1, close - i - 1);
+      if (!body.empty() && body.find_first_not_of("0123456789+-.eE, \n") == std::string::npos) {
+        out += '[';
+        bool space = false;
+        for (const char c : body) {
+          if (c == ' ' || c == '\n') {
+            space = true;
+            continue;
+          }
+          if (space && out.back() == ',')
+            out += ' ';
+          space = false;
+          out += c;
+        }
+        out += ']';
+        i = close;
+        continue;
+      }
+    }
+    out += text[i];
+  }
+  return out;
+}
+
+}  // namespace
+
+json resultJson(const Scene& scene, const Model& model, const ToolOptions& options, const Run& run,
+                const Timing& timing) {
+  json j;
+  j["scene"] = scene.path;
+  j["model"] = model.path;
+  j["units"] = pcl_icf_tool::unitsName(scene.units);
+  j["model_units"] = pcl_icf_tool::unitsName(model.units);
+  j["seed"] = options.params.icf.seed;
+  j["strategy"] = pcl::icf::toString(options.params.icf.strategy);
+  j["fallback"] = pcl::icf::toString(options.params.icf.fallback);
+  j["segment"] = options.params.segment;
+  j["status"] = seg::toString(run.loc.status);
+  j["message"] = run.loc.message;
+  j["exit_code"] = exitCode(run.loc);
+  j["best"] = nullptr;
+  json clusters = json::array();
+  for (std::size_t k = 0; k < run.loc.clusters.size(); ++k)
+    clusters.push_back(clusterJson(run.loc.clusters[k], static_cast<int>(k), scene));
+  if (run.loc.best >= 0)
+    j["best"] = clusters[static_cast<std::size_t>(run.loc.best)];
+  j["clusters"] = clusters;
+  j["scene_info"] = {{"format", scene.info.format},
+                     {"width", scene.input->width},
+                     {"height", scene.input->height},
+                     {"organized", scene.info.organized},
+                     {"has_colour", scene.info.has_colour},
+                     {"points", scene.info.points},
+                     {"finite_points", scene.info.finite_points}};
+  j["model_info"] = {
+      {"vertices", static_cast<std::size_t>(model.mesh.cloud.width) * model.mesh.cloud.height},
+      {"faces", model.icf->mesh().size()},
+      {"radius", model.icf->radius() / scene.metres_per_unit}};
+  j["timing_ms"] = {
+      {"load_scene", timing.load_scene},         {"load_model", timing.load_model},
+      {"build_model", timing.build_model},       {"segmentation", run.loc.segmentation_ms},
+      {"registration", run.loc.registration_ms}, {"localization", run.ms},
+      {"total", msSince(timing.start)}};
+  return j;
+}
+
+json errorJson(const std::string& scene, const std::string& model, const std::string& error) {
+  json j;
+  j["scene"] = scene;
+  j["model"] = model;
+  j["status"] = "BadInput";
+  j["message"] = error;
+  j["exit_code"] = 2;
+  j["best"] = nullptr;
+  j["clusters"] = json::array();
+  return j;
+}
+
+void writeJson(const std::string& path, const json& j, bool force) {
+  pcl_icf_tool::writeAtomically(path, force, [&](const std::string& tmp) {
+    std::ofstream out(tmp);
+    out << prettyJson(j) << "\n";
+    out.close();
+    if (!out)
+      throw std::runtime_error("write error");
+  });
+}
+
+void printReport(const Scene& scene, const Model& model, const Run& run, bool segment) {
+  const auto& loc = run.loc;
+  const char* units = pcl_icf_tool::unitsName(scene.units);
+  std::printf("scene  %s: %u x %u%s, %zu finite points, %s%s\n", scene.path.c_str(),
+              scene.input->width, scene.input->height, scene.info.organized ? " organized" : "",
+              scene.info.finite_points, units, scene.info.has_colour ? ", colour" : "");
+  std::printf("model  %s: %zu faces, radius %s %s (%s)\n", model.path.c_str(),
+              model.icf->mesh().size(),
+              fixed(model.icf->radius() / scene.metres_per_unit, 3).c_str(), units,
+              pcl_icf_tool::unitsName(model.units));
+  if (segment)
+    std::printf("table  %s, %zu plane points, %zu clusters above it, %zu candidates tried\n",
+                seg::toString(loc.segmentation.status), loc.segmentation.plane.inliers.size(),
+                loc.segmentation.clusters.size(), loc.clusters.size());
+  if (!loc.clusters.empty()) {
+    std::printf("\n  #  points   score  coverage  inliers  rmse[mm]  result\n");
+    for (std::size_t k = 0; k < loc.clusters.size(); ++k) {
+      const auto& c = loc.clusters[k];
+      std::printf("%3zu %7zu  %6.3f %9.3f %8.3f %9.2f  %s%s\n", k, c.indices.indices.size(),
+                  c.score, c.icf.quality.surface_coverage, c.icf.quality.inlier_ratio,
+                  1e3 * c.icf.quality.rmse, static_cast<int>(k) == loc.best ? "BEST, " : "",
+                  c.accepted ? "accepted" : ("rejected: " + c.reason).c_str());
+    }
+  }
+  std::printf("\n");
+  if (loc.best < 0) {
+    std::printf("no object found: %s (%s)\n", seg::toString(loc.status), loc.message.c_str());
+    if (segment && loc.status == seg::LocalizationStatus::NoClusters)
+      std::printf("       (for a cloud that holds one object, use --no-segment)\n");
+  } else {
+    const auto& c = loc.clusters[static_cast<std::size_t>(loc.best)];
+    const Eigen::Matrix4d pose = scenePose(c, scene.metres_per_unit);
+    const Eigen::Quaterniond q = quaternionOf(pose);
+    std::printf("best   cluster %d by %s, score %.3f\n", loc.best, c.icf.method.c_str(), c.score);
+    std::printf("pose   model -> scene, %s:\n", units);
+    for (int r = 0; r < 4; ++r)
+      std::printf("       %10.6f %10.6f %10.6f %12.6f\n", pose(r, 0), pose(r, 1), pose(r, 2),
+                  pose(r, 3));
+    std::printf("quaternion wxyz  %.6f %.6f %.6f %.6f\n", q.w(), q.x(), q.y(), q.z());
+    std::printf("translation      %.6f %.6f %.6f %s\n", pose(0, 3), pose(1, 3), pose(2, 3), units);
+  }
+  std::printf("time   %.0f ms (segmentation %.0f, registration %.0f)\n", run.ms,
+              loc.segmentation_ms, loc.registration_ms);
+}
+
+void writePly(const std::string& path, const pcl::PolygonMesh& mesh, bool force) {
+  pcl_icf_tool::writeAtomically(path, force, [&](const std::string& tmp) {
+    if (pcl::io::savePLYFileBinary(tmp, mesh) < 0)
+      throw std::runtime_error("PCL's PLY writer failed");
+  });
+}
+
+void writePng(const std::string& path, const RenderInput& input, bool force) {
+  pcl_icf_tool::writeAtomically(
+      path, force, [&](const std::string& tmp) { pcl_icf_tool::renderPng(input, tmp); });
+}
+
+}  // namespace pcl_icf_tool

@@ -1,0 +1,186 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#include "tool_run.h"
+
+#include "tool_output.h"
+
+#include <pcl/icf/face_mesh.h>
+#include <pcl/icf/io/mesh_io.h>
+#include <pcl/icf/segmentation/finite_indices.h>
+#include <pcl/icf/segmentation/scene_extent.h>
+
+#include <cstdio>
+#include <filesystem>
+
+namespace pcl_icf_tool {
+
+namespace fs = std::filesystem;
+namespace seg = pcl::icf::segmentation;
+
+namespace {
+
+/** --units auto: a scene whose finite points span more than this (robustExtent: stray points
+ * left out) is in millimetres. */
+constexpr double kSceneMillimetreExtent = 20.0;
+/** --model-units auto: a mesh that spans more than this beside a metre scene is in mm. */
+constexpr double kModelMillimetreExtent = 2.0;
+
+}  // namespace
+
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+void warn(const std::string& message) {
+  std::fprintf(stderr, "%s: warning: %s\n", kProgram, message.c_str());
+}
+
+std::string fixed(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+Model loadModel(const std::string& path, Units requested, bool quiet) {
+  Model m;
+  m.path = path;
+  const auto start = Clock::now();
+  try {
+    m.mesh = pcl::icf::io::loadPolygonMesh(path);
+  } catch (const pcl::icf::io::FileError& e) {
+    throw BadInput(e.what());
+  }
+  m.load_ms = msSince(start);
+  if (m.mesh.polygons.empty())
+    throw BadInput(path + ": the mesh has no faces (a point cloud is not a model)");
+  m.units = requested;
+  if (requested == Units::Auto) {
+    const double extent = pcl_icf_tool::meshExtent(m.mesh);
+    m.units = extent > kModelMillimetreExtent ? Units::Millimetres : Units::Metres;
+    if (m.units == Units::Millimetres && !quiet)
+      warn(path + " spans " + fixed(extent, 1) +
+           " units, too large for metres: read as millimetres (--model-units m to override)");
+  }
+  m.metres_per_unit = pcl_icf_tool::metresPerUnit(m.units);
+  const auto build = Clock::now();
+  pcl::icf::IcfModelParams params;
+  params.mesh.scale = static_cast<float>(m.metres_per_unit);
+  try {
+    m.icf = pcl::icf::IcfModel::build(m.mesh, params);
+  } catch (const pcl::icf::InvalidMeshError& e) {
+    throw BadInput(path + ": not a usable model: " + e.what());
+  } catch (const std::invalid_argument& e) {
+    throw BadInput(path + ": not a usable model: " + e.what());
+  }
+  m.build_ms = msSince(build);
+  return m;
+}
+
+Scene loadScene(const std::string& path, Units requested, bool quiet) {
+  Scene s;
+  s.path = path;
+  const auto start = Clock::now();
+  try {
+    s.input = pcl::icf::io::loadSceneCloud(path, &s.info);
+  } catch (const pcl::icf::io::FileError& e) {
+    throw BadInput(e.what());
+  }
+  s.load_ms = msSince(start);
+  s.units = requested;
+  if (requested == Units::Auto) {
+    // Without stray points: one corrupt return must not make a metre scene look like mm.
+    const double extent = seg::robustExtent(*s.input, seg::finiteIndices(*s.input));
+    s.units = extent > kSceneMillimetreExtent ? Units::Millimetres : Units::Metres;
+    if (s.units == Units::Millimetres && !quiet)
+      warn(path + " spans " + fixed(extent, 1) +
+           " units, too large for metres: read as millimetres (--units m to override)");
+  }
+  s.metres_per_unit = pcl_icf_tool::metresPerUnit(s.units);
+  if (s.metres_per_unit == 1.0) {
+    s.metres = s.input;
+  } else {
+    s.metres = pcl::make_shared<Cloud>(*s.input);
+    const float k = static_cast<float>(s.metres_per_unit);
+    for (auto& q : *s.metres) {
+      q.x *= k;
+      q.y *= k;
+      q.z *= k;
+    }
+    s.metres->sensor_origin_.head<3>() *= k;
+  }
+  return s;
+}
+
+Run localize(const Scene& scene, const Model& model, const ToolOptions& options, bool quiet) {
+  seg::LocalizerParams params = options.params;
+  if (params.colour.expected && !scene.info.has_colour) {
+    if (!quiet)
+      warn(scene.path + " has no colour: --color is ignored");
+    params.colour.expected.reset();
+  }
+  Run run;
+  const auto start = Clock::now();
+  run.loc = seg::localizeObject(*scene.metres, *model.icf, params);
+  run.ms = msSince(start);
+  return run;
+}
+
+int exitCode(const seg::Localization& loc) {
+  switch (loc.status) {
+    case seg::LocalizationStatus::Found:
+      return 0;
+    case seg::LocalizationStatus::BadScene:
+      return 2;
+    default:
+      return 1;
+  }
+}
+
+Eigen::Matrix4d scenePose(const seg::ClusterLocalization& c, double scene_metres_per_unit) {
+  Eigen::Matrix4d pose = c.icf.object_pose.cast<double>();
+  pose.topRightCorner<3, 1>() /= scene_metres_per_unit;
+  return pose;
+}
+
+Eigen::Quaterniond quaternionOf(const Eigen::Matrix4d& pose) {
+  Eigen::Quaterniond q(Eigen::Matrix3d(pose.topLeftCorner<3, 3>()));
+  q.normalize();
+  if (q.w() < 0.0)
+    q.coeffs() = -q.coeffs();
+  return q;
+}
+
+std::string caption(const Model& model, const Run& run) {
+  const std::string name = fs::path(model.path).filename().string();
+  if (run.loc.best < 0)
+    return name + ": not found (" + seg::toString(run.loc.status) + ")";
+  const auto& c = run.loc.clusters[static_cast<std::size_t>(run.loc.best)];
+  return name + ": cluster " + std::to_string(run.loc.best) + ", coverage " +
+         fixed(c.icf.quality.surface_coverage, 2) + ", rmse " + fixed(1e3 * c.icf.quality.rmse, 1) +
+         " mm, score " + fixed(c.score, 2);
+}
+
+pcl::PolygonMesh posedModel(const Scene& scene, const Model& model, const Run& run) {
+  if (run.loc.best < 0)
+    return {};
+  const auto& c = run.loc.clusters[static_cast<std::size_t>(run.loc.best)];
+  return pcl_icf_tool::posedMesh(model.mesh, scenePose(c, scene.metres_per_unit),
+                                 model.metres_per_unit / scene.metres_per_unit);
+}
+
+RenderInput renderInput(const Scene& scene, const ToolOptions& options,
+                        const pcl::PolygonMesh& posed, const std::string& text) {
+  RenderInput in;
+  in.scene = scene.input;
+  in.scene_has_colour = scene.info.has_colour;
+  in.posed_model = posed.polygons.empty() ? nullptr : &posed;
+  in.model_colour = options.render_colour;
+  in.caption = text;
+  in.width = options.render_width;
+  in.height = options.render_height;
+  return in;
+}
+
+}  // namespace pcl_icf_tool

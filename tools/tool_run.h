@@ -1,0 +1,112 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#pragma once
+
+/** \file
+ * \brief pcl_icf_tool's run on one scene: the model and the scene read (units decided), the
+ * localizer run, and what follows from its result (exit code, pose in scene units, posed
+ * model, picture input). */
+
+#include "tool_options.h"
+#include "tool_render.h"
+
+#include <pcl/PolygonMesh.h>
+#include <pcl/icf/icf_model.h>
+#include <pcl/icf/io/scene_io.h>
+#include <pcl/icf/segmentation/object_localizer.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <Eigen/Geometry>
+
+#include <chrono>
+#include <stdexcept>
+#include <string>
+
+namespace pcl_icf_tool {
+
+using Cloud = pcl::PointCloud<pcl::PointXYZRGBA>;
+using Clock = std::chrono::steady_clock;
+
+constexpr const char* kProgram = "pcl_icf_tool";
+
+/** Bad input: a file that cannot be used. Exit code 2. */
+class BadInput : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/** Milliseconds since \a start. */
+double msSince(Clock::time_point start);
+/** "pcl_icf_tool: warning: MESSAGE" on stderr. */
+void warn(const std::string& message);
+/** \a v with \a digits decimals. */
+std::string fixed(double v, int digits);
+
+/** The model as read and prepared. */
+struct Model {
+  std::string path;
+  pcl::PolygonMesh mesh;  ///< as read, in the file's units
+  Units units = Units::Metres;
+  double metres_per_unit = 1.0;
+  pcl::icf::IcfModel::ConstPtr icf;  ///< in metres
+  double load_ms = 0.0, build_ms = 0.0;
+};
+
+/** Reads and prepares the model; --model-units auto decides mm or m from its extent.
+ * \throws BadInput for an unreadable file or an unusable mesh. */
+Model loadModel(const std::string& path, Units requested, bool quiet);
+
+/** The scene as read, and in metres. */
+struct Scene {
+  std::string path;
+  Cloud::Ptr input;   ///< as read, in the file's units
+  Cloud::Ptr metres;  ///< the same points in metres (the same object when the file is in m)
+  pcl::icf::io::SceneFileInfo info;
+  Units units = Units::Metres;
+  double metres_per_unit = 1.0;
+  double load_ms = 0.0;
+};
+
+/** Reads the scene; --units auto decides mm or m from its robust extent. \throws BadInput. */
+Scene loadScene(const std::string& path, Units requested, bool quiet);
+
+/** The localizer's result on one scene and its wall time. */
+struct Run {
+  pcl::icf::segmentation::Localization loc;
+  double ms = 0.0;
+};
+
+/** The localizer on the scene in metres (the colour cue dropped, with a warning, for a scene
+ * without colour). */
+Run localize(const Scene& scene, const Model& model, const ToolOptions& options, bool quiet);
+
+/** 0 found, 1 nothing accepted, 2 bad scene. */
+int exitCode(const pcl::icf::segmentation::Localization& loc);
+
+/** The object's pose in the scene's units: model (in scene units) -> scene. */
+Eigen::Matrix4d scenePose(const pcl::icf::segmentation::ClusterLocalization& c,
+                          double scene_metres_per_unit);
+
+/** The rotation of \a pose as a unit quaternion with w >= 0. */
+Eigen::Quaterniond quaternionOf(const Eigen::Matrix4d& pose);
+
+/** Wall times of a run's stages (ms). */
+struct Timing {
+  double load_scene = 0, load_model = 0, build_model = 0, write = 0;
+  Clock::time_point start = Clock::now();
+};
+
+/** One line for the picture: the model, the best cluster, its coverage, RMSE and score. */
+std::string caption(const Model& model, const Run& run);
+
+/** The posed model in the scene's units, or an empty mesh when nothing was found. */
+pcl::PolygonMesh posedModel(const Scene& scene, const Model& model, const Run& run);
+
+/** What renderPng and the viewer draw: the scene, the posed model, the caption. */
+RenderInput renderInput(const Scene& scene, const ToolOptions& options,
+                        const pcl::PolygonMesh& posed, const std::string& text);
+
+}  // namespace pcl_icf_tool

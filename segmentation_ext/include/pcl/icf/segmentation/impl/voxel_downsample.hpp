@@ -4,6 +4,7 @@
  */
 #pragma once
 
+#include <pcl/common/common.h>
 #include <pcl/common/io.h>
 #include <pcl/console/print.h>
 #include <pcl/filters/voxel_grid.h>
@@ -26,12 +27,8 @@ namespace detail {
  * overflows; here it is counted in double. */
 template <typename PointT>
 bool voxelGridFits(const pcl::PointCloud<PointT>& cloud, const pcl::Indices& indices, float leaf) {
-  Eigen::Array3f lo = Eigen::Array3f::Constant(std::numeric_limits<float>::max());
-  Eigen::Array3f hi = Eigen::Array3f::Constant(std::numeric_limits<float>::lowest());
-  for (const pcl::index_t i : indices) {
-    lo = lo.min(cloud[i].getArray3fMap());
-    hi = hi.max(cloud[i].getArray3fMap());
-  }
+  Eigen::Vector4f lo, hi;
+  pcl::getMinMax3D(cloud, indices, lo, hi);  // the bounds VoxelGrid itself computes
   double cells = 1.0;
   for (int a = 0; a < 3; ++a)
     cells *= std::floor((static_cast<double>(hi[a]) - lo[a]) / leaf) + 1.0;

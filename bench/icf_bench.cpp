@@ -14,7 +14,6 @@
 #include <chrono>
 #include <cstdio>
 #include <functional>
-#include <random>
 #include <string>
 
 namespace {
@@ -39,16 +38,8 @@ using Method = std::function<Eigen::Matrix4f(const pcl::PointCloud<pcl::PointXYZ
 Stats run(const test::SyntheticModel& model, const Method& method, int trials) {
   Stats s;
   for (int trial = 0; trial < trials; ++trial) {
-    const std::uint64_t seed = 5000 + static_cast<std::uint64_t>(trial);
-    std::mt19937_64 rng(seed);
-    pcl::PointCloud<pcl::PointXYZ>::Ptr cluster;
-    Eigen::Isometry3d truth;
-    do {
-      truth = test::randomTabletopPose(rng);
-      test::ScanNoise noise;
-      noise.seed = seed;
-      cluster = test::renderCluster(model.mesh, truth, test::CameraIntrinsics(), noise);
-    } while (cluster->size() < 200);
+    const auto [truth, cluster] =
+        test::randomView(model.mesh, 5000 + static_cast<std::uint64_t>(trial));
     s.points.push_back(static_cast<double>(cluster->size()));
     const auto start = Clock::now();
     const Eigen::Matrix4f pose = method(cluster);

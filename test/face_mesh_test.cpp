@@ -1,5 +1,7 @@
 // FaceMesh::build: faces kept or triangulated, degenerate and duplicate faces dropped and
 // counted, and clear errors for meshes that cannot be models.
+#include "support/mesh_geometry.h"
+
 #include <pcl/conversions.h>
 #include <pcl/icf/face_mesh.h>
 #include <pcl/point_types.h>
@@ -10,20 +12,7 @@
 
 namespace {
 
-pcl::PolygonMesh meshOf(const std::vector<Eigen::Vector3f>& vertices,
-                        const std::vector<pcl::Indices>& faces) {
-  pcl::PointCloud<pcl::PointXYZ> cloud;
-  for (const auto& v : vertices)
-    cloud.push_back(pcl::PointXYZ(v.x(), v.y(), v.z()));
-  pcl::PolygonMesh mesh;
-  pcl::toPCLPointCloud2(cloud, mesh.cloud);
-  for (const auto& f : faces) {
-    pcl::Vertices poly;
-    poly.vertices = f;
-    mesh.polygons.push_back(poly);
-  }
-  return mesh;
-}
+using pcl::icf::test::meshOf;
 
 const std::vector<Eigen::Vector3f> kSquare = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
 

@@ -4,6 +4,7 @@
 // a correct answer, never a crash or a hang, and a lying header does not allocate what it
 // claims (checked in a forked child under an address-space limit).
 #include "support/depth_camera.h"
+#include "support/mesh_geometry.h"
 #include "support/pose_error.h"
 #include "support/synthetic_models.h"
 #include "test_paths.h"
@@ -172,21 +173,7 @@ const IcfModel& boxModel() {
   return *model;
 }
 
-pcl::PolygonMesh meshOf(const std::vector<Eigen::Vector3f>& vertices,
-                        const std::vector<std::vector<int>>& faces) {
-  pcl::PointCloud<pcl::PointXYZ> cloud;
-  for (const auto& v : vertices)
-    cloud.push_back(pcl::PointXYZ(v.x(), v.y(), v.z()));
-  pcl::PolygonMesh mesh;
-  pcl::toPCLPointCloud2(cloud, mesh.cloud);
-  for (const auto& f : faces) {
-    pcl::Vertices poly;
-    for (const int i : f)
-      poly.vertices.push_back(i);
-    mesh.polygons.push_back(poly);
-  }
-  return mesh;
-}
+using pcl::icf::test::meshOf;
 
 // ---- Files ------------------------------------------------------------------------------
 

@@ -20,23 +20,12 @@ using pcl::icf::test::CameraIntrinsics;
 using pcl::icf::test::ScanNoise;
 using pcl::icf::test::SyntheticModel;
 
-struct Trial {
-  Eigen::Isometry3d truth;
-  pcl::PointCloud<pcl::PointXYZ>::Ptr cluster;
-};
+using Trial = pcl::icf::test::RandomView;
 
 /** A random pose in front of the camera (0.7 - 1.1 m) and its noisy view: noise 1.5 mm at
  * 1 m growing with depth^2, 5% outliers within +-5 cm along the ray. */
 Trial makeTrial(const SyntheticModel& model, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  Trial t;
-  do {
-    t.truth = pcl::icf::test::randomTabletopPose(rng);
-    ScanNoise noise;
-    noise.seed = seed;
-    t.cluster = pcl::icf::test::renderCluster(model.mesh, t.truth, CameraIntrinsics(), noise);
-  } while (t.cluster->size() < 200);  // a view edge-on to a thin box: draw again
-  return t;
+  return pcl::icf::test::randomView(model.mesh, seed);
 }
 
 Eigen::Isometry3d toIsometry(const Eigen::Matrix4f& m) {

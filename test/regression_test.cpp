@@ -3,6 +3,7 @@
 // Also: every seed of the fuzzers' corpora (fuzz/corpus/) is a valid file and loads, and our
 // readers (which replaced PCL's and VTK's, io/src/file_formats.h) give what PCL's gave on the
 // real files of ../shared/data and the demo.
+#include "support/mesh_geometry.h"
 #include "test_paths.h"
 
 #include <pcl/conversions.h>
@@ -90,19 +91,9 @@ TEST(FuzzFinding, TinyAndHugeMeshesKeepUnitNormals) {
   // scaling with the square (float cross products underflowed and overflowed before).
   for (const float scale : {1e-20f, 1.f, 1e17f}) {
     SCOPED_TRACE(scale);
-    pcl::PointCloud<pcl::PointXYZ> v;
-    v.push_back(pcl::PointXYZ(0, 0, 0));
-    v.push_back(pcl::PointXYZ(scale, 0, 0));
-    v.push_back(pcl::PointXYZ(0, scale, 0));
-    v.push_back(pcl::PointXYZ(0, 0, scale));
-    pcl::PolygonMesh mesh;
-    pcl::toPCLPointCloud2(v, mesh.cloud);
-    for (const auto& f : {pcl::Indices{0, 2, 1}, pcl::Indices{0, 1, 3}, pcl::Indices{0, 3, 2},
-                          pcl::Indices{1, 2, 3}}) {
-      pcl::Vertices poly;
-      poly.vertices = f;
-      mesh.polygons.push_back(poly);
-    }
+    const pcl::PolygonMesh mesh =
+        pcl::icf::test::meshOf({{0, 0, 0}, {scale, 0, 0}, {0, scale, 0}, {0, 0, scale}},
+                               {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}});
     const FaceMesh faces = FaceMesh::build(mesh);
     ASSERT_EQ(faces.size(), 4u);
     for (const auto& face : faces.faces())

@@ -17,7 +17,6 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
-#include <random>
 
 namespace {
 
@@ -25,8 +24,6 @@ using pcl::icf::FallbackPolicy;
 using pcl::icf::IcfModel;
 using pcl::icf::SacParams;
 using pcl::icf::SacStatus;
-using pcl::icf::test::CameraIntrinsics;
-using pcl::icf::test::ScanNoise;
 using pcl::icf::test::SyntheticModel;
 
 struct Trial {
@@ -38,14 +35,10 @@ struct Trial {
 /** A random pose 0.7 - 1.1 m in front of the camera and its noisy view (1.5 mm at 1 m,
  * growing with depth^2; 5% outliers within +-5 cm along the ray). */
 Trial makeTrial(const SyntheticModel& model, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
+  const pcl::icf::test::RandomView view = pcl::icf::test::randomView(model.mesh, seed);
   Trial t;
-  do {
-    t.truth = pcl::icf::test::randomTabletopPose(rng);
-    ScanNoise noise;
-    noise.seed = seed;
-    t.cloud = pcl::icf::test::renderCluster(model.mesh, t.truth, CameraIntrinsics(), noise);
-  } while (t.cloud->size() < 200);
+  t.truth = view.truth;
+  t.cloud = view.cluster;
   for (const auto& p : *t.cloud)
     t.points.push_back(p.getVector3fMap());
   return t;

@@ -333,6 +333,18 @@ Eigen::Isometry3d randomTabletopPose(std::mt19937_64& rng, double distance_min,
   return pose;
 }
 
+RandomView randomView(const pcl::PolygonMesh& mesh, std::uint64_t seed, std::size_t min_points) {
+  std::mt19937_64 rng(seed);
+  RandomView v;
+  do {
+    v.truth = randomTabletopPose(rng);
+    ScanNoise noise;
+    noise.seed = seed;
+    v.cluster = renderCluster(mesh, v.truth, CameraIntrinsics(), noise);
+  } while (v.cluster->size() < min_points);
+  return v;
+}
+
 TabletopScene makeTabletopScene(const std::vector<SyntheticModel>& objects,
                                 const std::vector<Eigen::Vector3d>& table_xy_yaw,
                                 const CameraIntrinsics& intrinsics, const ScanNoise& noise,

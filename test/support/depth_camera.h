@@ -106,6 +106,18 @@ Eigen::Matrix3d randomRotation(std::mt19937_64& rng);
 Eigen::Isometry3d randomTabletopPose(std::mt19937_64& rng, double distance_min = 0.7,
                                      double distance_max = 1.1);
 
+/** \brief A model alone at a seeded random pose, and its noisy view. */
+struct RandomView {
+  Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();  ///< model -> camera (metres)
+  pcl::PointCloud<pcl::PointXYZ>::Ptr cluster;              ///< renderCluster's points
+};
+
+/** \brief randomTabletopPose from std::mt19937_64(seed) and renderCluster with the default
+ *  camera and noise (ScanNoise::seed = seed), drawn again while fewer than min_points show
+ *  (a thin box seen edge-on). Same seed, same view. */
+RandomView randomView(const pcl::PolygonMesh& mesh, std::uint64_t seed,
+                      std::size_t min_points = 200);
+
 /** \brief A synthetic table-top scene with ground truth. */
 struct TabletopScene {
   Scan scan;                             ///< labels: 0 table, i + 1 for objects[i], -1 background

@@ -11,32 +11,41 @@ namespace pcl {
 namespace icf {
 namespace test {
 
-pcl::PolygonMesh makeMesh(const std::vector<Eigen::Vector3d>& vertices,
-                          const std::vector<Face>& faces) {
+pcl::PolygonMesh meshOf(const std::vector<Eigen::Vector3f>& vertices,
+                        const std::vector<Face>& faces) {
   pcl::PointCloud<pcl::PointXYZ> cloud;
   cloud.reserve(vertices.size());
-  for (const auto& v : vertices) {
-    cloud.push_back(pcl::PointXYZ(static_cast<float>(v.x()), static_cast<float>(v.y()),
-                                  static_cast<float>(v.z())));
-  }
+  for (const auto& v : vertices)
+    cloud.push_back(pcl::PointXYZ(v.x(), v.y(), v.z()));
   pcl::PolygonMesh mesh;
   pcl::toPCLPointCloud2(cloud, mesh.cloud);
   mesh.polygons.reserve(faces.size());
   for (const auto& face : faces) {
+    pcl::Vertices polygon;
+    polygon.vertices = face;
+    mesh.polygons.push_back(polygon);
+  }
+  return mesh;
+}
+
+pcl::PolygonMesh makeMesh(const std::vector<Eigen::Vector3d>& vertices,
+                          const std::vector<Face>& faces) {
+  for (const auto& face : faces) {
     if (face.size() < 3) {
       throw std::invalid_argument("makeMesh: a face needs at least 3 vertices");
     }
-    pcl::Vertices polygon;
     for (const pcl::index_t index : face) {
       if (index < 0 || static_cast<std::size_t>(index) >= vertices.size()) {
         throw std::invalid_argument("makeMesh: vertex index " + std::to_string(index) +
                                     " out of range");
       }
-      polygon.vertices.push_back(index);
     }
-    mesh.polygons.push_back(polygon);
   }
-  return mesh;
+  std::vector<Eigen::Vector3f> single;
+  single.reserve(vertices.size());
+  for (const auto& v : vertices)
+    single.push_back(v.cast<float>());
+  return meshOf(single, faces);
 }
 
 std::vector<Eigen::Vector3d> meshVertices(const pcl::PolygonMesh& mesh) {

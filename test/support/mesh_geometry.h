@@ -25,6 +25,11 @@ using Face = std::vector<pcl::index_t>;
 /** \brief A triangle as three vertex indices. */
 using Triangle = std::array<pcl::index_t, 3>;
 
+/** \brief A mesh written by hand: \a vertices (metres) and \a faces, each a list of indices
+ *  into \a vertices, kept as given (no check: tests feed broken meshes on purpose). */
+pcl::PolygonMesh meshOf(const std::vector<Eigen::Vector3f>& vertices,
+                        const std::vector<Face>& faces);
+
 /** \brief Builds a mesh from vertex positions (metres) and faces (vertex indices).
  *  \throws std::invalid_argument if a face has fewer than 3 vertices or an index is out of range.
  */

@@ -5,6 +5,7 @@
 #include "support/depth_camera.h"
 #include "support/pose_error.h"
 #include "support/synthetic_models.h"
+#include "test_paths.h"
 
 #include <pcl/icf/estimate_pose.h>
 #include <pcl/icf/io/mesh_io.h>
@@ -14,7 +15,6 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
-#include <fstream>
 #include <iostream>
 #include <memory>
 
@@ -50,11 +50,9 @@ pcl::icf::test::PoseError errorOf(const Eigen::Matrix4f& scene_to_model, const T
   return pcl::icf::test::poseError(pose, t.truth, model.symmetry);
 }
 
-/** The Stanford bunny (real scanned mesh, ../shared/data/meshes), or nullptr without it. */
-std::unique_ptr<SyntheticModel> bunny() {
-  const std::string path = std::string(PCL_ICF_SHARED_DATA) + "/meshes/bunny.ply";
-  if (!std::ifstream(path))
-    return nullptr;
+/** The Stanford bunny (real scanned mesh) from \p path (PCL_ICF_REQUIRE_SHARED's
+ * ../shared/data/meshes/bunny.ply). */
+std::unique_ptr<SyntheticModel> bunny(const std::string& path) {
   auto model = std::make_unique<SyntheticModel>();
   model->name = "bunny";
   model->mesh = pcl::icf::io::loadPolygonMesh(path);
@@ -69,9 +67,8 @@ std::unique_ptr<SyntheticModel> bunny() {
 // truncated score is coarser. 8 of 10 seeded views each. (On the thesis's primitives, flat
 // faces and bodies of revolution, FPFH is far weaker: doc/BENCHMARKS.md.)
 TEST(SampleConsensusAlign, RecoversBunnyViewsWithoutRefinement) {
-  const auto model = bunny();
-  if (!model)
-    GTEST_SKIP() << "no " << PCL_ICF_SHARED_DATA << "/meshes/bunny.ply";
+  PCL_ICF_REQUIRE_SHARED(bunny_path, "meshes/bunny.ply");
+  const auto model = bunny(bunny_path);
   const IcfModel::ConstPtr prepared = IcfModel::build(model->mesh);
   for (const auto method :
        {pcl::icf::SacMethod::Prerejective, pcl::icf::SacMethod::InitialAlignment}) {
@@ -280,9 +277,8 @@ TEST(Fallback, AutoFiresWhenTheSearchFailsAndRecoversThePose) {
 TEST(Fallback, AutoRecoversBunnyViewsTheCrippledSearchMisses) {
   if (std::getenv("PCL_ICF_SANITIZED"))
     GTEST_SKIP() << "24 bunny registrations take minutes under ASan; the release run covers it";
-  const auto model = bunny();
-  if (!model)
-    GTEST_SKIP() << "no " << PCL_ICF_SHARED_DATA << "/meshes/bunny.ply";
+  PCL_ICF_REQUIRE_SHARED(bunny_path, "meshes/bunny.ply");
+  const auto model = bunny(bunny_path);
   expectFallbackRecovers(*model, 40, 52, 3, 0);
 }
 

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <string>
 
@@ -19,11 +21,29 @@ inline std::string fixture(const std::string& relative) {
   return (std::filesystem::path(PCL_ICF_TEST_DATA) / relative).string();
 }
 
+/** True when the environment variable CI is "true" (CI sets it and has ../shared/data): a test
+ * whose real data is absent then fails instead of skipping. */
+inline bool inCi() {
+  const char* ci = std::getenv("CI");
+  return ci != nullptr && std::strcmp(ci, "true") == 0;
+}
+
+/** Why a test cannot run without ../shared/data/<relative>. */
+inline std::string absentMessage(const std::string& relative) {
+  return "../shared/data/" + relative +
+         (inCi() ? " is absent, and CI=true requires the real data"
+                 : " is absent (clone beside the project's shared folder to run this test)");
+}
+
 }  // namespace pcl_icf_test
 
-/** Skips the current test, saying why, when ../shared/data/<relative> is missing. */
+/** Declares `const std::string var`, the path of ../shared/data/<relative>. When that is
+ * missing, ends the current test saying why: a failure when CI=true (pcl_icf_test::inCi(); CI
+ * has the data, so a real-data test must run there), a skip elsewhere. */
 #define PCL_ICF_REQUIRE_SHARED(var, relative)                 \
   const std::string var = pcl_icf_test::sharedData(relative); \
-  if (var.empty())                                            \
-  GTEST_SKIP() << "../shared/data/" << (relative)             \
-               << " is absent (clone beside the project's shared folder to run this test)"
+  if (!var.empty()) {                                         \
+  } else if (pcl_icf_test::inCi())                            \
+    GTEST_FAIL() << pcl_icf_test::absentMessage(relative);    \
+  else                                                        \
+    GTEST_SKIP() << pcl_icf_test::absentMessage(relative)

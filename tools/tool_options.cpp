@@ -151,6 +151,32 @@ Eigen::Vector3f parseColour(const std::string& option, const std::string& text) 
   return c;
 }
 
+/** "X,Y,Z" or "X,Y,Z,QW,QX,QY,QZ": the camera's position (scene units) and orientation in the
+ * scene's frame; the quaternion must be a unit one (to 1e-3). */
+Eigen::Isometry3d parseCameraPose(const std::string& option, const std::string& text) {
+  std::vector<double> v;
+  std::stringstream in(text);
+  std::string part;
+  while (std::getline(in, part, ','))
+    v.push_back(parseDouble(option, part));
+  if (v.size() != 3 && v.size() != 7)
+    throw UsageError(option + ": '" + text +
+                     "' is not X,Y,Z or X,Y,Z,QW,QX,QY,QZ (the camera's position and "
+                     "orientation in the scene's frame)");
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
+  if (v.size() == 7) {
+    const Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);
+    if (!(std::abs(q.norm() - 1.0) < 1e-3))
+      throw UsageError(option + ": the quaternion (" + std::to_string(v[3]) + ", " +
+                       std::to_string(v[4]) + ", " + std::to_string(v[5]) + ", " +
+                       std::to_string(v[6]) + ") has norm " + std::to_string(q.norm()) +
+                       ", not 1: not a rotation");
+    pose.linear() = q.normalized().toRotationMatrix();
+  }
+  return pose;
+}
+
 pcl::icf::SearchStrategy parseStrategy(const std::string& option, const std::string& text) {
   try {
     return pcl::icf::parseSearchStrategy(text);
@@ -175,6 +201,8 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
       o.units = parseUnits(a, args.value(a));
     else if (a == "--model-units")
       o.model_units = parseUnits(a, args.value(a));
+    else if (a == "--camera")
+      o.camera = parseCameraPose(a, args.value(a));
     else if (a == "--no-segment") {
       args.noValue(a);
       p.segment = false;
@@ -219,8 +247,11 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
     else if (a == "--no-gate") {
       args.noValue(a);
       p.thesis_gate = false;
-    } else if (a == "--max-free-space")
-      p.max_free_space_violation = parseFraction(a, args.value(a));
+    } else if (a == "--gate") {
+      args.noValue(a);
+      p.thesis_gate = true;
+    } else if (a == "--min-confidence")
+      p.min_confidence = parseFraction(a, args.value(a));
     else if (a == "--json")
       o.json = args.value(a);
     else if (a == "--output")
@@ -311,6 +342,9 @@ std::string usageText(const std::string& program) {
     << "    --model-units m|mm|auto  = the mesh's units (default: auto, millimetres when the\n"
     << "                               mesh spans more than 2 units)\n"
     << "    --no-segment             = the cloud is one object: no table segmentation\n"
+    << "    --camera X,Y,Z[,QW,QX,QY,QZ] = the camera's pose in the scene's frame (scene units;\n"
+    << "                               camera x right, y down, z forward) for a cloud in a\n"
+    << "                               robot's frame (default: the file's VIEWPOINT)\n"
     << "  Search (lengths in metres, whatever the files' units):\n"
     << "    --strategy fast|thesis   = the pose search (default: "
     << pcl::icf::toString(p.icf.strategy) << ")\n"
@@ -336,13 +370,14 @@ std::string usageText(const std::string& program) {
     << ")\n"
     << "    --max-rmse D             = RMS distance of the inliers (default: "
     << p.icf.acceptance.max_rmse << ")\n"
-    << "    --gate-distance D        = the thesis's gate: a cluster with more than N points\n"
-    << "                               farther than D from the posed model is rejected\n"
-    << "                               (default: " << p.gate_distance << ")\n"
+    << "    --gate                   = also apply the thesis's gate (default: off)\n"
+    << "    --gate-distance D        = the gate: a cluster with more than N points farther\n"
+    << "                               than D from the posed model is rejected (default: "
+    << p.gate_distance << ")\n"
     << "    --gate-max-far N         = that N (default: " << p.gate_max_far_points << ")\n"
     << "    --no-gate                = turn the thesis's gate off\n"
-    << "    --max-free-space F       = share of the model the camera may see through (default: "
-    << p.max_free_space_violation << ")\n"
+    << "    --min-confidence C       = accept a pose whose verification confidence reaches C\n"
+    << "                               (default: " << p.min_confidence << ")\n"
     << "  Output:\n"
     << "    --json FILE              = the result as JSON (poses in the scene's units)\n"
     << "    --output FILE.ply        = the model moved to its pose, in the scene's units\n"

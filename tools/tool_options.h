@@ -10,8 +10,10 @@
 #include <pcl/icf/segmentation/object_localizer.h>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -44,6 +46,9 @@ struct ToolOptions {
   bool render_all = false;  ///< --render-all (batch): DIR/<scene>.png for every scene
   bool output_all = false;  ///< --output-all (batch): DIR/<scene>.ply for every found pose
 
+  /** --camera: the camera's pose in the scene's frame, translation in the scene's units
+   * (unset: the file's VIEWPOINT, the camera's frame by default). */
+  std::optional<Eigen::Isometry3d> camera;
   Units units = Units::Auto;        ///< --units
   Units model_units = Units::Auto;  ///< --model-units
 

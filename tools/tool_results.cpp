@@ -39,7 +39,15 @@ json clusterJson(const seg::ClusterLocalization& c, int index, const Scene& scen
   j["icf_status"] = pcl::icf::toString(c.icf.status);
   j["reason"] = c.reason;
   j["gate_far_points"] = c.gate_far_points;
-  j["free_space_violation"] = c.free_space_violation;
+  j["confidence"] = c.verification.confidence;
+  j["verification"] = {{"judged_pixels", c.verification.model_pixels},
+                       {"supported", c.verification.supported},
+                       {"seen_through", c.verification.seen_through},
+                       {"occluded", c.verification.occluded},
+                       {"missing", c.verification.missing},
+                       {"visible_support", c.verification.visible_support},
+                       {"silhouette_continuation", c.verification.silhouette_continuation},
+                       {"silhouette_pixels", c.verification.silhouette_pixels}};
   j["colour_similarity"] = c.colour_similarity ? json(*c.colour_similarity) : json(nullptr);
   j["time_ms"] = c.icf.time_ms;
   return j;
@@ -92,6 +100,13 @@ json resultJson(const Scene& scene, const Model& model, const ToolOptions& optio
   j["strategy"] = pcl::icf::toString(options.params.icf.strategy);
   j["fallback"] = pcl::icf::toString(options.params.icf.fallback);
   j["segment"] = options.params.segment;
+  {
+    const Eigen::Isometry3d camera = run.loc.camera_pose.cast<double>();
+    const Eigen::Quaterniond q = quaternionOf(camera.matrix());
+    const Eigen::Vector3d position = camera.translation() / scene.metres_per_unit;
+    j["camera"] = {{"position", {position.x(), position.y(), position.z()}},
+                   {"quaternion_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
+  }
   j["status"] = seg::toString(run.loc.status);
   j["message"] = run.loc.message;
   j["exit_code"] = exitCode(run.loc);
@@ -158,12 +173,13 @@ void printReport(const Scene& scene, const Model& model, const Run& run, bool se
                 seg::toString(loc.segmentation.status), loc.segmentation.plane.inliers.size(),
                 loc.segmentation.clusters.size(), loc.clusters.size());
   if (!loc.clusters.empty()) {
-    std::printf("\n  #  points   score  coverage  inliers  rmse[mm]  result\n");
+    std::printf("\n  #  points   confidence  coverage  inliers  rmse[mm]  result\n");
     for (std::size_t k = 0; k < loc.clusters.size(); ++k) {
       const auto& c = loc.clusters[k];
-      std::printf("%3zu %7zu  %6.3f %9.3f %8.3f %9.2f  %s%s\n", k, c.indices.indices.size(),
-                  c.score, c.icf.quality.surface_coverage, c.icf.quality.inlier_ratio,
-                  1e3 * c.icf.quality.rmse, static_cast<int>(k) == loc.best ? "BEST, " : "",
+      std::printf("%3zu %7zu  %11.3f %9.3f %8.3f %9.2f  %s%s\n", k, c.indices.indices.size(),
+                  c.verification.confidence, c.icf.quality.surface_coverage,
+                  c.icf.quality.inlier_ratio, 1e3 * c.icf.quality.rmse,
+                  static_cast<int>(k) == loc.best ? "BEST, " : "",
                   c.accepted ? "accepted" : ("rejected: " + c.reason).c_str());
     }
   }
@@ -176,7 +192,8 @@ void printReport(const Scene& scene, const Model& model, const Run& run, bool se
     const auto& c = loc.clusters[static_cast<std::size_t>(loc.best)];
     const Eigen::Matrix4d pose = scenePose(c, scene.metres_per_unit);
     const Eigen::Quaterniond q = quaternionOf(pose);
-    std::printf("best   cluster %d by %s, score %.3f\n", loc.best, c.icf.method.c_str(), c.score);
+    std::printf("best   cluster %d by %s, confidence %.3f, score %.3f\n", loc.best,
+                c.icf.method.c_str(), c.verification.confidence, c.score);
     std::printf("pose   model -> scene, %s:\n", units);
     for (int r = 0; r < 4; ++r)
       std::printf("       %10.6f %10.6f %10.6f %12.6f\n", pose(r, 0), pose(r, 1), pose(r, 2),

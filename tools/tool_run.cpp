@@ -120,6 +120,11 @@ Run localize(const Scene& scene, const Model& model, const ToolOptions& options,
       warn(scene.path + " has no colour: --color is ignored");
     params.colour.expected.reset();
   }
+  if (options.camera) {
+    Eigen::Isometry3d camera = *options.camera;
+    camera.translation() *= scene.metres_per_unit;
+    params.camera_pose = camera.cast<float>();
+  }
   Run run;
   const auto start = Clock::now();
   run.loc = seg::localizeObject(*scene.metres, *model.icf, params);

@@ -4,7 +4,6 @@
  */
 #include <pcl/icf/global_search.h>
 #include <pcl/icf/segmentation/colour_histogram.h>
-#include <pcl/icf/segmentation/view_grid.h>
 #include <pcl/icf/usable_point.h>
 #include <pcl/point_types.h>
 #include <pcl/icf/segmentation/impl/object_localizer.hpp>
@@ -13,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -59,102 +59,119 @@ void LocalizerParams::validate() const {
     segmentation.validate();
   icf.validate();
   colour.validate();
+  verification.validate();
+  if (intrinsics)
+    intrinsics->validate();
+  if (!(min_confidence >= 0.0 && min_confidence <= 1.0))
+    fail("min_confidence", min_confidence, "must lie in [0, 1]");
   if (!(gate_distance > 0.f) || !std::isfinite(gate_distance))
     fail("gate_distance", gate_distance, "must be positive and finite");
   if (gate_max_far_points < 0)
     fail("gate_max_far_points", gate_max_far_points, "must be >= 0");
-  if (!(min_single_object_inliers >= 0.0 && min_single_object_inliers <= 1.0))
-    fail("min_single_object_inliers", min_single_object_inliers, "must lie in [0, 1]");
   if (!(gate_max_far_fraction >= 0.0 && gate_max_far_fraction <= 1.0))
     fail("gate_max_far_fraction", gate_max_far_fraction, "must lie in [0, 1]");
-  if (!(free_space_tolerance > 0.f) || !std::isfinite(free_space_tolerance))
-    fail("free_space_tolerance", free_space_tolerance, "must be positive and finite");
-  if (!(max_free_space_violation >= 0.0 && max_free_space_violation <= 1.0))
-    fail("max_free_space_violation", max_free_space_violation, "must lie in [0, 1]");
-  if (!(boundary_tolerance > 0.f) || !std::isfinite(boundary_tolerance))
-    fail("boundary_tolerance", boundary_tolerance, "must be positive and finite");
-  if (!(max_boundary_continuation >= 0.0 && max_boundary_continuation <= 1.0))
-    fail("max_boundary_continuation", max_boundary_continuation, "must lie in [0, 1]");
-  if (!(view_bin_angle > 1e-5f && view_bin_angle < 0.2f))
-    fail("view_bin_angle", view_bin_angle, "must lie in (1e-5, 0.2) radians");
   if (threads < 0 || threads > 1024)
     fail("threads", threads, "must lie in [0, 1024] (0 = all cores)");
+  if (!(min_points_in_front >= 0.0 && min_points_in_front <= 1.0))
+    fail("min_points_in_front", min_points_in_front, "must lie in [0, 1]");
+  if (camera_pose)
+    validateCameraPose(*camera_pose, "LocalizerParams::camera_pose");
+}
+
+void validateCameraPose(const Eigen::Isometry3f& camera_to_scene, const std::string& what) {
+  const Eigen::Matrix4f& m = camera_to_scene.matrix();
+  if (!m.allFinite())
+    throw std::invalid_argument(what + " has a NaN or infinite entry");
+  const Eigen::Matrix3f r = m.topLeftCorner<3, 3>();
+  const float orthonormality =
+      (r.transpose() * r - Eigen::Matrix3f::Identity()).cwiseAbs().maxCoeff();
+  if (!(orthonormality < 1e-4f) || !(r.determinant() > 0.f))
+    throw std::invalid_argument(
+        what + " is not a rotation and a translation (R^T R differs from I by " +
+        std::to_string(orthonormality) + ", det " + std::to_string(r.determinant()) + ")");
+  if (!(m.row(3) - Eigen::RowVector4f(0, 0, 0, 1)).isZero(0.f))
+    throw std::invalid_argument(what + ": the bottom row must be 0 0 0 1");
 }
 
 namespace detail {
+
+double shareInFront(const std::vector<Eigen::Vector3f>& points) {
+  std::size_t finite = 0, in_front = 0;
+  for (const auto& p : points)
+    if (isUsablePoint(p)) {
+      ++finite;
+      in_front += p.z() > 0.f ? 1 : 0;
+    }
+  return finite > 0 ? static_cast<double>(in_front) / static_cast<double>(finite) : 1.0;
+}
+
+void toSceneFrame(Localization& loc, const Eigen::Isometry3f& camera_to_scene) {
+  const Eigen::Matrix4f to_scene = camera_to_scene.matrix();
+  const Eigen::Matrix4f to_camera = camera_to_scene.inverse(Eigen::Isometry).matrix();
+  for (auto& c : loc.clusters) {
+    c.icf.object_pose = to_scene * c.icf.object_pose;
+    c.icf.scene_to_model = c.icf.scene_to_model * to_camera;
+  }
+  // A plane n.x + d = 0 in the camera's frame is (R n).y + d - (R n).t = 0 in the scene's.
+  auto& plane = loc.segmentation.plane.coefficients;
+  if (!plane.isZero(0.f)) {
+    const Eigen::Vector3f n = camera_to_scene.linear() * plane.head<3>();
+    plane = Eigen::Vector4f(n.x(), n.y(), n.z(), plane[3] - n.dot(camera_to_scene.translation()));
+  }
+  loc.camera_pose = camera_to_scene;
+}
+
 namespace {
 
-/** The posed model as the camera sees it: bins of its visible samples with their depth,
- * closed morphologically so that sparse samples make a solid silhouette. */
-struct Footprint {
-  std::unordered_map<std::int64_t, float> depth;  // bin -> nearest model depth (sampled bins)
-  std::unordered_set<std::int64_t> solid;         // sampled bins with their holes closed
-};
-
-Footprint modelFootprint(const IcfModel& model, const Eigen::Isometry3f& model_to_scene,
-                         const std::vector<std::size_t>& visible, const ViewGrid& grid) {
-  Footprint f;
-  for (std::size_t s : visible) {
-    const Eigen::Vector3f p = model_to_scene * model.samples()[s].point;
-    const std::int64_t b = grid.bin(p);
-    if (b < 0)
-      continue;
-    const float d = grid.depthOf(p);
-    auto it = f.depth.find(b);
-    if (it == f.depth.end())
-      f.depth.emplace(b, d);
-    else
-      it->second = std::min(it->second, d);
-  }
-  std::unordered_set<std::int64_t> dilated;
-  for (const auto& kv : f.depth) {
-    dilated.insert(kv.first);
-    for (std::int64_t n : grid.neighbours(kv.first))
-      dilated.insert(n);
-  }
-  for (std::int64_t b : dilated) {
-    bool interior = true;
-    for (std::int64_t n : grid.neighbours(b))
-      interior = interior && dilated.count(n) > 0;
-    if (interior || f.depth.count(b))
-      f.solid.insert(b);
-  }
-  return f;
-}
-
-/** Share of the silhouette's outer ring where the scene surface carries on at the depth of
- * the model's adjacent border. */
-double boundaryContinuation(const Footprint& f, const ViewGrid& grid, float tolerance) {
-  std::set<std::int64_t> ring;
-  for (std::int64_t b : f.solid)
-    for (std::int64_t n : grid.neighbours(b))
-      if (!f.solid.count(n))
-        ring.insert(n);
-  std::size_t judged = 0, continuing = 0;
-  for (std::int64_t r : ring) {
-    float model_depth = ViewGrid::kEmpty;
-    for (std::int64_t n : grid.neighbours(r)) {
-      const auto it = f.depth.find(n);
-      if (it != f.depth.end())
-        model_depth = std::min(model_depth, it->second);
+/** The thesis's gate on one cluster: points farther than gate_distance from the posed model.
+ * A cluster of one object is counted whole; in a merged cluster only the points the model
+ * claims: on its rendered silhouette and not in front of its surface. */
+int gateFarPoints(const std::vector<Eigen::Vector3f>& points, const IcfModel& model,
+                  const Eigen::Isometry3f& scene_to_model, const ModelDepth& rendered,
+                  const DepthImage& image, const LocalizerParams& params, bool single_object) {
+  int far = 0;
+  for (const auto& x : points) {
+    if (!single_object) {
+      int u = 0, v = 0;
+      if (!image.pixelOf(x, u, v) || !rendered.covers(u, v) ||
+          x.z() < rendered.depth[static_cast<std::size_t>(v) * rendered.width + u] -
+                      params.gate_distance)
+        continue;
     }
-    if (model_depth == ViewGrid::kEmpty)
-      continue;
-    ++judged;
-    const float scene_depth = grid.depth(r);
-    if (scene_depth < ViewGrid::kEmpty && std::abs(scene_depth - model_depth) < tolerance)
-      ++continuing;
+    if (model.index().closestFace(scene_to_model * x, params.gate_distance).distance >
+        params.gate_distance)
+      ++far;
   }
-  return judged > 0 ? static_cast<double>(continuing) / static_cast<double>(judged) : 0.0;
+  return far;
 }
 
-ClusterLocalization judgeCluster(const SceneView& view, const ViewGrid& grid,
+/** Why a judged cluster is not accepted ("" when it is). */
+std::string rejection(const ClusterLocalization& c, const LocalizerParams& params) {
+  std::ostringstream why;
+  const DepthExplanation& e = c.verification;
+  if (c.verification.confidence < params.min_confidence)
+    why << "confidence " << e.confidence << " < " << params.min_confidence << ": explains "
+        << std::lround(100.0 * e.visible_support) << "% of the visible model, "
+        << std::lround(100.0 * e.seen_through) << "% seen through, "
+        << std::lround(100.0 * e.silhouette_continuation) << "% of its silhouette continues, "
+        << std::lround(100.0 * e.supported) << "% of it supported ";
+  if (!c.gate_passed)
+    why << "thesis gate (" << c.gate_far_points << " points beyond " << params.gate_distance
+        << ") ";
+  std::string reason = why.str();
+  if (!reason.empty())
+    reason.pop_back();
+  return reason;
+}
+
+ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
                                  const pcl::PointIndices& indices, const IcfModel& model,
                                  const LocalizerParams& params, int icf_threads,
                                  const std::optional<ColourHistogram>& expected,
                                  bool single_object) {
   ClusterLocalization c;
   c.indices = indices;
+  c.single_object = single_object;
   std::vector<Eigen::Vector3f> points;
   points.reserve(indices.indices.size());
   for (const auto i : indices.indices)
@@ -167,44 +184,16 @@ ClusterLocalization judgeCluster(const SceneView& view, const ViewGrid& grid,
     c.reason = "too few points (" + std::to_string(c.icf.points) + ")";
     return c;
   }
-  const Eigen::Isometry3f model_to_scene(c.icf.object_pose);
-  const Eigen::Isometry3f scene_to_model(c.icf.scene_to_model);
-  const std::vector<std::size_t> visible =
-      visibleSamples(model, model_to_scene, view.camera, params.icf.acceptance.visibility);
-  const Footprint footprint = modelFootprint(model, model_to_scene, visible, grid);
-
-  // Free space: visible model samples in front of what the camera saw along their ray.
-  std::size_t seen_through = 0;
-  for (std::size_t s : visible) {
-    const Eigen::Vector3f p = model_to_scene * model.samples()[s].point;
-    const float scene_depth = grid.depth(grid.bin(p));
-    if (scene_depth < ViewGrid::kEmpty &&
-        scene_depth > grid.depthOf(p) + params.free_space_tolerance)
-      ++seen_through;
+  const Eigen::Isometry3f model_to_camera(c.icf.object_pose);
+  const ModelDepth rendered = renderModelDepth(model, model_to_camera, image.intrinsics());
+  c.verification = explainDepth(rendered, image, 2.f * model.radius(), params.verification);
+  if (params.thesis_gate) {
+    c.gate_far_points = gateFarPoints(points, model, Eigen::Isometry3f(c.icf.scene_to_model),
+                                      rendered, image, params, single_object);
+    const double allowed =
+        std::max<double>(params.gate_max_far_points, params.gate_max_far_fraction * points.size());
+    c.gate_passed = c.gate_far_points <= allowed;
   }
-  c.free_space_violation =
-      visible.empty() ? 1.0
-                      : static_cast<double>(seen_through) / static_cast<double>(visible.size());
-
-  // The thesis's gate. A cluster of one object (compact, or a convexity segment) must be
-  // explained whole; in a merged cluster the posed model answers only for the points it
-  // claims: inside its silhouette and behind its visible surface.
-  for (const auto& x : points) {
-    if (!single_object) {
-      const std::int64_t b = grid.bin(x);
-      const auto it = footprint.depth.find(b);
-      if (!footprint.solid.count(b) || it == footprint.depth.end() || grid.depthOf(x) < it->second)
-        continue;
-    }
-    if (model.index().closestFace(scene_to_model * x, params.gate_distance).distance >
-        params.gate_distance)
-      ++c.gate_far_points;
-  }
-  const double allowed =
-      std::max<double>(params.gate_max_far_points, params.gate_max_far_fraction * points.size());
-  c.gate_passed = !params.thesis_gate || c.gate_far_points <= allowed;
-  c.boundary_continuation = boundaryContinuation(footprint, grid, params.boundary_tolerance);
-
   double colour_factor = 1.0;
   if (expected && !view.colours.empty()) {
     ColourHistogram h(params.colour.bins);
@@ -213,28 +202,32 @@ ClusterLocalization judgeCluster(const SceneView& view, const ViewGrid& grid,
     c.colour_similarity = h.intersection(*expected);
     colour_factor = std::pow(std::max(1e-3, *c.colour_similarity), params.colour.weight);
   }
-  c.score = c.icf.quality.surface_coverage * std::sqrt(c.icf.quality.inlier_ratio) *
-            (1.0 - c.free_space_violation) * colour_factor;
-
-  std::ostringstream why;
-  if (!c.icf.accepted())
-    why << "pose rejected (coverage " << c.icf.quality.surface_coverage << ", rmse "
-        << c.icf.quality.rmse << ") ";
-  c.single_object = single_object;
-  if (single_object && c.icf.quality.inlier_ratio < params.min_single_object_inliers)
-    why << "explains only " << c.icf.quality.inlier_ratio << " of the object's points ";
-  if (!c.gate_passed)
-    why << "thesis gate (" << c.gate_far_points << " points beyond " << params.gate_distance
-        << ") ";
-  if (c.free_space_violation > params.max_free_space_violation)
-    why << "free space (" << c.free_space_violation << " of the model seen through) ";
-  if (c.boundary_continuation > params.max_boundary_continuation)
-    why << "surface continues past the model (" << c.boundary_continuation << ") ";
-  c.reason = why.str();
-  if (!c.reason.empty())
-    c.reason.pop_back();
+  c.score = c.verification.confidence * colour_factor;
+  c.reason = rejection(c, params);
   c.accepted = c.reason.empty();
   return c;
+}
+
+/** The scene as a depth image in the camera's frame: an organized cloud's own pixel grid when
+ * its points fit a pinhole (0.5 pixel), else the points projected through the given
+ * intrinsics or a virtual camera at their spacing. The table's pixels are background. */
+DepthImage sceneDepthImage(const SceneView& view, const std::vector<bool>& is_table,
+                           const LocalizerParams& params) {
+  PinholeIntrinsics k;
+  double rms = std::numeric_limits<double>::infinity();
+  if (params.intrinsics)
+    k = *params.intrinsics;
+  else if (view.width > 0)
+    k = DepthImage::fitIntrinsics(view.points, view.width, view.height, rms);
+  if (!params.intrinsics && !(rms < 0.5))
+    k = DepthImage::virtualCamera(view.points, DepthImage::angularSpacing(view.points));
+  DepthImage image(view.points, k);
+  std::vector<int> table;
+  for (std::size_t i = 0; i < is_table.size(); ++i)
+    if (is_table[i])
+      table.push_back(static_cast<int>(i));
+  image.markBackground(view.points, table);
+  return image;
 }
 
 /** The global search's merged-cluster test (spreadsWiderThanModel) on one cluster; clusters
@@ -305,14 +298,9 @@ Localization localizeInView(const SceneView& view, TabletopSegmentation segmenta
   }
   out.segmentation = std::move(segmentation);
 
-  // What the camera saw, without the table (an object standing on it would otherwise seem to
-  // carry on into the table at its base).
-  std::vector<Eigen::Vector3f> seen;
-  seen.reserve(view.points.size());
-  for (std::size_t i = 0; i < view.points.size(); ++i)
-    if (!is_table[i] && isUsablePoint(view.points[i]))
-      seen.push_back(view.points[i]);
-  const ViewGrid grid(seen, view.camera, params.view_bin_angle);
+  // What the camera saw, the table marked as background (an object standing on it would
+  // otherwise seem to carry on into the table at its base).
+  const DepthImage image = sceneDepthImage(view, is_table, params);
 
   std::optional<ColourHistogram> expected;
   if (params.colour.expected)
@@ -349,7 +337,7 @@ Localization localizeInView(const SceneView& view, TabletopSegmentation segmenta
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (m > 1)
     for (int j = 0; j < m; ++j) {
       const auto k = static_cast<std::size_t>(which[static_cast<std::size_t>(j)]);
-      out.clusters[k] = judgeCluster(view, grid, clusters[k], model, params, m == 1 ? threads : 1,
+      out.clusters[k] = judgeCluster(view, image, clusters[k], model, params, m == 1 ? threads : 1,
                                      expected, single[k]);
     }
   };

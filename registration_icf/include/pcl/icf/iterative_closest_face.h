@@ -14,7 +14,7 @@ namespace pcl {
 
 /** \brief Iterative Closest Face: registers a scene cluster (the source) to a polygon mesh (the
  * target) without an initial guess, by point-to-face distance (doc/icf.md; the method of
- * Sannino's 2013 thesis, made fast).
+ * Valentina Armenise's 2013 KTH master's thesis, supervised by Renaud Detry, made fast).
  *
  * A pcl::Registration<PointSource, PointSource>, so it stands beside
  * pcl::IterativeClosestPoint<PointSource, PointSource> behind the same pcl::Registration::Ptr.

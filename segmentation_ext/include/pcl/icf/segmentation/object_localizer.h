@@ -4,6 +4,7 @@
  */
 #pragma once
 
+#include <pcl/icf/depth_verification.h>
 #include <pcl/icf/estimate_pose.h>
 #include <pcl/icf/icf_model.h>
 #include <pcl/icf/segmentation/convexity_split.h>
@@ -12,6 +13,7 @@
 #include <pcl/point_cloud.h>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <optional>
 #include <string>
@@ -41,36 +43,29 @@ struct LocalizerParams {
   bool segment = true;
   TabletopParams segmentation;
   IcfParams icf;
-  /** The thesis's gate (section 6.2): a cluster is rejected when more than
-   * max(gate_max_far_points, gate_max_far_fraction x its size) of its points lie farther than
-   * gate_distance from the posed model's closest face. A cluster of one object (compact next
-   * to the model, or a convexity segment) is counted whole, as in the thesis; in a merged
-   * cluster only the points the posed model claims count: those whose line of sight crosses
-   * the model's silhouette and that lie behind its visible surface (doc/localizer.md). */
-  bool thesis_gate = true;
+  /** The verification that decides (depth_verification.h): the posed model rendered into the
+   * camera's pixel grid and compared with the measured depth; tolerances scale with the
+   * sensor's noise at each pixel's depth and with the model's size. */
+  DepthVerificationParams verification;
+  /** A pose is accepted when its confidence (DepthExplanation::confidence) reaches this.
+   * Chosen from the curve of false poses against missed objects (doc/BENCHMARKS.md,
+   * "Identification"). */
+  double min_confidence = 0.5;
+  /** Intrinsics of the camera, for an unorganized cloud (an organized one gives its own, fitted
+   * to its points). Unset: a virtual camera at the cloud's point spacing. */
+  std::optional<PinholeIntrinsics> intrinsics;
+  /** The thesis's gate (section 6.2), off by default (the verification decides): a cluster is
+   * rejected when more than max(gate_max_far_points, gate_max_far_fraction x its size) of the
+   * points the posed model claims lie farther than gate_distance from its closest face. A
+   * cluster of one object (compact, or a convexity segment) is counted whole, as in the
+   * thesis; in a merged cluster only the points inside the rendered model's silhouette and
+   * behind its surface count. */
+  bool thesis_gate = false;
   float gate_distance = 0.027f;  ///< 27 mm
   int gate_max_far_points = 5;   ///< "more than 5 points"
   /** Ours: the thesis's clusters had a few hundred points after its voxel filter; a
    * full-resolution Kinect cluster of thousands has more stray edge pixels. */
   double gate_max_far_fraction = 0.03;
-  /** A cluster of one object (compact, or a convexity segment) must also be explained nearly
-   * whole: at least this share of its points within the inlier distance of the posed model.
-   * The right model explains 96-100% (Kinect noise, 5% flying pixels); a box laid on a cup or
-   * a statue 80-90%. */
-  double min_single_object_inliers = 0.93;
-  /** So that a bigger object cannot win by having more points (thesis scenario 2) when its
-   * surface merely contains the model's: the share of the posed model's silhouette border
-   * where the scene's surface carries on at the model's depth (within boundary_tolerance). An
-   * object seen whole ends in a depth jump or in nothing; above max_boundary_continuation the
-   * model explains only part of a bigger surface. */
-  float boundary_tolerance = 0.01f;
-  double max_boundary_continuation = 0.6;
-  /** Free-space check: a camera-facing sample of the posed model that lies more than
-   * free_space_tolerance in front of the scene surface seen along the same ray means the
-   * camera saw through the model. Rejected above max_free_space_violation (share of the
-   * visible samples). */
-  float free_space_tolerance = 0.015f;
-  double max_free_space_violation = 0.15;
   ColourCue colour;
   /** Touching objects merge into one Euclidean cluster (the YCB-Video frame's four do). A
    * cluster that spreads wider than the model (icf.global.merged_cluster_ratio) is also split
@@ -78,13 +73,32 @@ struct LocalizerParams {
    * cluster of its own, besides the whole. */
   bool split_merged = true;
   ConvexitySplitParams split;
-  /** Angular bin of the view grid used by the free-space, gate and boundary checks. */
-  float view_bin_angle = 0.004f;
   /** Clusters localised in parallel (0: all cores). The result does not depend on it. */
   int threads = 0;
+  /** The camera's pose in the scene's frame (camera -> scene; camera frame x right, y down,
+   * z forward, as PCL's and every depth camera's driver give it). Unset: the cloud's own
+   * sensor_origin_ and sensor_orientation_ (a PCD's VIEWPOINT). A cloud moved into a robot's
+   * base frame needs it: pcl::transformPointCloud does not move sensor_origin_. The scene is
+   * localised in the camera's frame and every pose is reported in the scene's frame, so a
+   * cloud and the same cloud moved rigidly with its camera give the same poses up to the move
+   * (and float rounding). */
+  std::optional<Eigen::Isometry3f> camera_pose;
+  /** The scene must lie in front of the camera: at least this share of its finite points at
+   * positive depth, else BadScene (a camera pose given the wrong way round). */
+  double min_points_in_front = 0.5;
 
   void validate() const;
 };
+
+/** \brief The camera pose localizeObject uses for \a scene: params.camera_pose, else the
+ * cloud's sensor_origin_ / sensor_orientation_. \throws std::invalid_argument when that pose
+ * is not a rigid motion (NaN, a non-unit quaternion). */
+template <typename PointT>
+Eigen::Isometry3f cameraPoseOf(const pcl::PointCloud<PointT>& scene, const LocalizerParams& params);
+
+/** \brief Checks that \a camera_to_scene is a finite rigid motion (rotation orthonormal to 1e-4,
+ * determinant +1); \throws std::invalid_argument naming \a what otherwise. */
+void validateCameraPose(const Eigen::Isometry3f& camera_to_scene, const std::string& what);
 
 /** \brief One cluster's outcome. */
 struct ClusterLocalization {
@@ -95,15 +109,14 @@ struct ClusterLocalization {
   IcfResult icf;            ///< pose (object_pose: model -> scene), quality, status
   int gate_far_points = 0;  ///< points beyond gate_distance counted by the thesis's gate
   bool gate_passed = true;
-  double boundary_continuation = 0.0;  ///< share of the silhouette border where the surface goes on
-  double free_space_violation = 0.0;   ///< share of visible model samples seen through
+  /** How the posed model explains the depth image; its confidence decides acceptance. */
+  DepthExplanation verification;
   std::optional<double> colour_similarity;  ///< histogram intersection in [0, 1], when used
-  /** Ranking score: surface coverage x sqrt(inlier ratio) x (1 - free-space violation) x
-   * (colour similarity ^ weight): how much of the model the cluster shows and how much of the
-   * cluster the model explains, comparable across clusters of any size (doc/localizer.md). */
+  /** Ranking score: the verification's confidence x (colour similarity ^ weight), comparable
+   * across clusters of any size (doc/localizer.md). */
   double score = 0.0;
   bool single_object = true;  ///< judged as one object's points (see thesis_gate)
-  bool accepted = false;      ///< ICF accepted, gate passed, free space respected
+  bool accepted = false;      ///< confidence >= min_confidence (and the gate, when on)
   std::string reason;         ///< why not accepted ("" when accepted)
 };
 
@@ -111,7 +124,7 @@ enum class LocalizationStatus {
   Found,       ///< a cluster was accepted: best >= 0
   NotFound,    ///< clusters were tried, none accepted
   NoClusters,  ///< segmentation gave no cluster (see segmentation.status / message)
-  BadScene,    ///< empty, all-NaN or millimetre scene (see segmentation.message)
+  BadScene,    ///< empty, all-NaN or millimetre scene, or behind the camera (see message)
 };
 const char* toString(LocalizationStatus status);
 
@@ -123,6 +136,9 @@ struct Localization {
   /** The segmentation's clusters in its order, then the convexity segments of merged ones. */
   std::vector<ClusterLocalization> clusters;
   int best = -1;  ///< index into clusters of the best accepted cluster, -1 when none
+  /** The camera pose used (camera -> scene): every pose and plane above is in the scene's
+   * frame. */
+  Eigen::Isometry3f camera_pose = Eigen::Isometry3f::Identity();
   double total_ms = 0.0;
   double segmentation_ms = 0.0;
   double registration_ms = 0.0;

@@ -4,6 +4,7 @@
  */
 #pragma once
 
+#include <pcl/common/transforms.h>
 #include <pcl/icf/segmentation/object_localizer.h>
 #include <pcl/icf/segmentation/tabletop_segmentation.h>
 #include <pcl/type_traits.h>
@@ -21,11 +22,20 @@ struct SceneView {
   std::vector<Eigen::Vector3f> points;   ///< every point (NaN where the cloud has NaN)
   std::vector<Eigen::Vector3f> colours;  ///< [0, 1] RGB per point, empty without colour
   Eigen::Vector3f camera = Eigen::Vector3f::Zero();
+  int width = 0, height = 0;  ///< an organized cloud's image size; 0 when unorganized
 };
 
 Localization localizeInView(const SceneView& view, TabletopSegmentation segmentation,
                             const IcfModel& model, const LocalizerParams& params,
                             double segmentation_ms);
+
+/** Share of the finite points of \a points at positive depth (z > 0, camera frame); 1 when
+ * there is none. */
+double shareInFront(const std::vector<Eigen::Vector3f>& points);
+
+/** Maps a localization made in the camera's frame into the scene's: poses, registration
+ * transforms and the table plane. Indices are unchanged. */
+void toSceneFrame(Localization& loc, const Eigen::Isometry3f& camera_to_scene);
 
 template <typename PointT>
 SceneView makeSceneView(const pcl::PointCloud<PointT>& scene) {
@@ -38,24 +48,75 @@ SceneView makeSceneView(const pcl::PointCloud<PointT>& scene) {
     for (const auto& p : scene)
       view.colours.emplace_back(p.r / 255.f, p.g / 255.f, p.b / 255.f);
   }
-  view.camera = scene.sensor_origin_.template head<3>();
+  if (scene.isOrganized() && scene.height > 1) {
+    view.width = static_cast<int>(scene.width);
+    view.height = static_cast<int>(scene.height);
+  }
   return view;
 }
 
-}  // namespace detail
-
+/** Everything localizeObject does, on a cloud in the camera's frame (camera at the origin,
+ * looking along +z). */
 template <typename PointT>
-Localization localizeObject(const pcl::PointCloud<PointT>& scene, const IcfModel& model,
-                            const LocalizerParams& params) {
-  params.validate();
+Localization localizeInCameraFrame(const pcl::PointCloud<PointT>& scene, const IcfModel& model,
+                                   const LocalizerParams& params) {
   const auto start = std::chrono::steady_clock::now();
+  SceneView view = makeSceneView(scene);
+  const double in_front = shareInFront(view.points);
+  if (in_front < params.min_points_in_front) {
+    Localization out;
+    out.status = LocalizationStatus::BadScene;
+    out.message = "the scene lies behind the camera: only " +
+                  std::to_string(static_cast<int>(std::lround(100.0 * in_front))) +
+                  "% of its finite points are in front of it (check the camera pose or the "
+                  "cloud's VIEWPOINT)";
+    return out;
+  }
   TabletopSegmentation segmentation;
   if (params.segment)
     segmentation = segmentTabletop(scene, params.segmentation);
   const double segmentation_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  return detail::localizeInView(detail::makeSceneView(scene), std::move(segmentation), model,
-                                params, segmentation_ms);
+  return localizeInView(view, std::move(segmentation), model, params, segmentation_ms);
+}
+
+}  // namespace detail
+
+template <typename PointT>
+Eigen::Isometry3f cameraPoseOf(const pcl::PointCloud<PointT>& scene,
+                               const LocalizerParams& params) {
+  if (params.camera_pose)
+    return *params.camera_pose;
+  Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
+  pose.translation() = scene.sensor_origin_.template head<3>();
+  const Eigen::Quaternionf& q = scene.sensor_orientation_;
+  if (!(q.coeffs().allFinite() && std::abs(q.norm() - 1.f) < 1e-3f))
+    throw std::invalid_argument(
+        "the cloud's sensor_orientation_ (VIEWPOINT) is not a unit quaternion");
+  pose.linear() = q.normalized().toRotationMatrix();
+  return pose;
+}
+
+template <typename PointT>
+Localization localizeObject(const pcl::PointCloud<PointT>& scene, const IcfModel& model,
+                            const LocalizerParams& params) {
+  params.validate();
+  const Eigen::Isometry3f camera_to_scene = cameraPoseOf(scene, params);
+  validateCameraPose(camera_to_scene, "camera pose");
+  if (camera_to_scene.matrix() == Eigen::Matrix4f::Identity())
+    return detail::localizeInCameraFrame(scene, model, params);
+  const auto start = std::chrono::steady_clock::now();
+  pcl::PointCloud<PointT> in_camera;
+  pcl::transformPointCloud(scene, in_camera, camera_to_scene.inverse(Eigen::Isometry).matrix());
+  in_camera.sensor_origin_.setZero();
+  in_camera.sensor_orientation_.setIdentity();
+  const double transform_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  Localization loc = detail::localizeInCameraFrame(in_camera, model, params);
+  detail::toSceneFrame(loc, camera_to_scene);
+  loc.segmentation_ms += transform_ms;
+  loc.total_ms += transform_ms;
+  return loc;
 }
 
 }  // namespace segmentation

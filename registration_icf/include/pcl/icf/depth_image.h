@@ -1,0 +1,110 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#pragma once
+
+/** \file
+ * \brief The scene as the camera saw it: a depth image with its pinhole intrinsics, built from
+ * an organized cloud (its own pixel grid, the intrinsics fitted to its points) or from any
+ * cloud projected through given or virtual intrinsics. The verification (depth_verification.h)
+ * compares a posed model with it pixel by pixel.
+ *
+ * Frames: points are in the camera's frame (x right, y down, z forward, PCL's and every depth
+ * driver's convention); a point (x, y, z) falls on pixel (fx x / z + cx, fy y / z + cy), pixel
+ * centres at integer coordinates. */
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace pcl {
+namespace icf {
+
+/** \brief Pinhole intrinsics of a depth image, in pixels. */
+struct PinholeIntrinsics {
+  float fx = 525.f, fy = 525.f;    ///< focal lengths (Kinect v1 at 640 x 480: 525)
+  float cx = 319.5f, cy = 239.5f;  ///< principal point
+  int width = 640, height = 480;
+
+  /** \throws std::invalid_argument naming the field when a focal length or the size is <= 0 or
+   * anything is not finite. */
+  void validate() const;
+};
+
+/** \brief The depth noise of the sensor: the standard deviation of a depth measurement at
+ * depth z, sigma(z) = max(floor, coefficient * z^2). Structured-light and stereo sensors
+ * (Kinect v1, Xtion, RealSense) grow with z^2: Khoshelham and Elberink (2012) measure about
+ * 1.4e-3 z^2 m for the Kinect v1, whose disparity is quantised in 1/8 pixel steps of about
+ * 2.9e-3 z^2 m. Lengths in metres. */
+struct DepthNoiseModel {
+  float coefficient = 1.4e-3f;  ///< per metre: sigma = coefficient * z^2
+  float floor = 5e-4f;          ///< smallest sigma (time-of-flight sensors: use a constant)
+
+  float sigma(float z) const { return std::max(floor, coefficient * z * z); }
+  void validate() const;
+};
+
+/** \brief A depth image: z of the nearest measurement per pixel (+inf where the sensor saw
+ * nothing), and which pixels hold background (the table) that silhouette checks ignore. */
+class DepthImage {
+ public:
+  static constexpr float kEmpty = std::numeric_limits<float>::infinity();
+
+  DepthImage() = default;
+  /** \brief Projects \a points (camera frame; NaN ones skipped) through \a intrinsics, keeping
+   * the nearest z per pixel. */
+  DepthImage(const std::vector<Eigen::Vector3f>& points, const PinholeIntrinsics& intrinsics);
+
+  /** \brief The intrinsics of an organized cloud (\a width x \a height, row-major, NaN where
+   * nothing was measured), fitted by least squares to its finite points' pixel positions. Sets
+   * \a rms_pixels to the fit's residual: near 0 for a cloud made by a pinhole camera, large for
+   * a cloud that is not in the camera's frame. */
+  static PinholeIntrinsics fitIntrinsics(const std::vector<Eigen::Vector3f>& points, int width,
+                                         int height, double& rms_pixels);
+
+  /** \brief Intrinsics of a virtual camera at the origin that sees every point of \a points in
+   * pixels of \a pixel_angle radians (about one scan point per pixel when \a pixel_angle is
+   * the points' angular spacing; see angularSpacing). At most \a max_side pixels a side. */
+  static PinholeIntrinsics virtualCamera(const std::vector<Eigen::Vector3f>& points,
+                                         float pixel_angle, int max_side = 2048);
+
+  /** \brief Median angular spacing (radians) of neighbouring points as seen from the origin,
+   * on a deterministic subset of at most \a sample points. */
+  static float angularSpacing(const std::vector<Eigen::Vector3f>& points,
+                              std::size_t sample = 2000);
+
+  const PinholeIntrinsics& intrinsics() const { return k_; }
+  int width() const { return k_.width; }
+  int height() const { return k_.height; }
+  bool empty() const { return depth_.empty(); }
+
+  /** \brief Depth at pixel (u, v); kEmpty outside the image or where nothing was seen. */
+  float depth(int u, int v) const {
+    return inside(u, v) ? depth_[static_cast<std::size_t>(v) * k_.width + u] : kEmpty;
+  }
+  /** \brief True when pixel (u, v) holds a background point (see markBackground). */
+  bool background(int u, int v) const {
+    return inside(u, v) && background_[static_cast<std::size_t>(v) * k_.width + u] != 0;
+  }
+  bool inside(int u, int v) const { return u >= 0 && v >= 0 && u < k_.width && v < k_.height; }
+
+  /** \brief Marks the pixels of \a points[indices] as background (where they are the nearest
+   * measurement of their pixel). */
+  void markBackground(const std::vector<Eigen::Vector3f>& points, const std::vector<int>& indices);
+
+  /** \brief Pixel (rounded) of a camera-frame point; false when it is behind the camera or
+   * outside the image. */
+  bool pixelOf(const Eigen::Vector3f& p, int& u, int& v) const;
+
+ private:
+  PinholeIntrinsics k_;
+  std::vector<float> depth_;
+  std::vector<std::uint8_t> background_;
+};
+
+}  // namespace icf
+}  // namespace pcl

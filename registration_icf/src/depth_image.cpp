@@ -1,0 +1,195 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#include <pcl/icf/depth_image.h>
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_types.h>
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace pcl {
+namespace icf {
+
+namespace {
+
+void fail(const char* what, const char* field, double value, const char* rule) {
+  std::ostringstream msg;
+  msg << "[pcl::icf::" << what << "::validate] " << field << " = " << value << ": " << rule;
+  throw std::invalid_argument(msg.str());
+}
+
+bool inFront(const Eigen::Vector3f& p) {
+  return p.allFinite() && p.z() > 1e-6f;
+}
+
+/** Least-squares line pixel = f * tangent + c; false when the tangents do not vary. */
+bool fitLine(const std::vector<std::pair<double, double>>& tangent_pixel, float& f, float& c,
+             double& sum_sq) {
+  const double n = static_cast<double>(tangent_pixel.size());
+  double st = 0, sp = 0, stt = 0, stp = 0;
+  for (const auto& [t, p] : tangent_pixel) {
+    st += t;
+    sp += p;
+    stt += t * t;
+    stp += t * p;
+  }
+  const double var = stt - st * st / n;
+  if (!(var > 1e-12 * n))
+    return false;
+  const double slope = (stp - st * sp / n) / var;
+  const double offset = (sp - slope * st) / n;
+  for (const auto& [t, p] : tangent_pixel)
+    sum_sq += (slope * t + offset - p) * (slope * t + offset - p);
+  f = static_cast<float>(slope);
+  c = static_cast<float>(offset);
+  return true;
+}
+
+}  // namespace
+
+void PinholeIntrinsics::validate() const {
+  if (!(fx > 0.f) || !std::isfinite(fx))
+    fail("PinholeIntrinsics", "fx", fx, "must be positive and finite");
+  if (!(fy > 0.f) || !std::isfinite(fy))
+    fail("PinholeIntrinsics", "fy", fy, "must be positive and finite");
+  if (!std::isfinite(cx))
+    fail("PinholeIntrinsics", "cx", cx, "must be finite");
+  if (!std::isfinite(cy))
+    fail("PinholeIntrinsics", "cy", cy, "must be finite");
+  if (width <= 0 || height <= 0 || width > 16384 || height > 16384)
+    fail("PinholeIntrinsics", width <= 0 || width > 16384 ? "width" : "height",
+         width <= 0 || width > 16384 ? width : height, "must lie in [1, 16384]");
+}
+
+void DepthNoiseModel::validate() const {
+  if (!(coefficient >= 0.f) || !std::isfinite(coefficient))
+    fail("DepthNoiseModel", "coefficient", coefficient, "must be finite and >= 0");
+  if (!(floor > 0.f) || !std::isfinite(floor))
+    fail("DepthNoiseModel", "floor", floor, "must be positive and finite");
+}
+
+DepthImage::DepthImage(const std::vector<Eigen::Vector3f>& points,
+                       const PinholeIntrinsics& intrinsics)
+    : k_(intrinsics) {
+  k_.validate();
+  const std::size_t size = static_cast<std::size_t>(k_.width) * k_.height;
+  depth_.assign(size, kEmpty);
+  background_.assign(size, 0);
+  for (const auto& p : points) {
+    int u = 0, v = 0;
+    if (!pixelOf(p, u, v))
+      continue;
+    float& d = depth_[static_cast<std::size_t>(v) * k_.width + u];
+    d = std::min(d, p.z());
+  }
+}
+
+bool DepthImage::pixelOf(const Eigen::Vector3f& p, int& u, int& v) const {
+  if (!inFront(p))
+    return false;
+  const float fu = std::round(k_.fx * p.x() / p.z() + k_.cx);
+  const float fv = std::round(k_.fy * p.y() / p.z() + k_.cy);
+  if (!(fu >= 0.f && fv >= 0.f && fu < static_cast<float>(k_.width) &&
+        fv < static_cast<float>(k_.height)))
+    return false;
+  u = static_cast<int>(fu);
+  v = static_cast<int>(fv);
+  return true;
+}
+
+void DepthImage::markBackground(const std::vector<Eigen::Vector3f>& points,
+                                const std::vector<int>& indices) {
+  for (const int i : indices) {
+    if (i < 0 || static_cast<std::size_t>(i) >= points.size())
+      continue;
+    const Eigen::Vector3f& p = points[static_cast<std::size_t>(i)];
+    int u = 0, v = 0;
+    if (pixelOf(p, u, v) && depth(u, v) == p.z())
+      background_[static_cast<std::size_t>(v) * k_.width + u] = 1;
+  }
+}
+
+PinholeIntrinsics DepthImage::fitIntrinsics(const std::vector<Eigen::Vector3f>& points, int width,
+                                            int height, double& rms_pixels) {
+  std::vector<std::pair<double, double>> xu, yv;
+  for (int v = 0; v < height; ++v)
+    for (int u = 0; u < width; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * width + u;
+      if (i >= points.size() || !inFront(points[i]))
+        continue;
+      xu.emplace_back(points[i].x() / points[i].z(), u);
+      yv.emplace_back(points[i].y() / points[i].z(), v);
+    }
+  PinholeIntrinsics k;
+  k.width = width;
+  k.height = height;
+  double sum_sq = 0.0;
+  if (xu.size() < 10 || !fitLine(xu, k.fx, k.cx, sum_sq) || !fitLine(yv, k.fy, k.cy, sum_sq)) {
+    rms_pixels = std::numeric_limits<double>::infinity();
+    return k;
+  }
+  rms_pixels = std::sqrt(sum_sq / (2.0 * static_cast<double>(xu.size())));
+  return k;
+}
+
+PinholeIntrinsics DepthImage::virtualCamera(const std::vector<Eigen::Vector3f>& points,
+                                            float pixel_angle, int max_side) {
+  float amin = 1e30f, amax = -1e30f, bmin = 1e30f, bmax = -1e30f;
+  for (const auto& p : points)
+    if (inFront(p)) {
+      amin = std::min(amin, p.x() / p.z());
+      amax = std::max(amax, p.x() / p.z());
+      bmin = std::min(bmin, p.y() / p.z());
+      bmax = std::max(bmax, p.y() / p.z());
+    }
+  PinholeIntrinsics k;
+  if (amax < amin) {
+    k.width = k.height = 1;
+    return k;
+  }
+  // Tangents far off the axis (a stray point nearly beside the camera) are cut at 60 degrees.
+  const float limit = 1.7320508f;
+  amin = std::max(amin, -limit);
+  bmin = std::max(bmin, -limit);
+  amax = std::min(amax, limit);
+  bmax = std::min(bmax, limit);
+  float f = 1.f / std::max(pixel_angle, 1e-5f);
+  const float span = std::max({amax - amin, bmax - bmin, 1e-6f});
+  f = std::min(f, static_cast<float>(max_side - 3) / span);
+  k.fx = k.fy = f;
+  k.cx = -amin * f + 1.f;
+  k.cy = -bmin * f + 1.f;
+  k.width = std::max(1, static_cast<int>(std::ceil((amax - amin) * f)) + 3);
+  k.height = std::max(1, static_cast<int>(std::ceil((bmax - bmin) * f)) + 3);
+  return k;
+}
+
+float DepthImage::angularSpacing(const std::vector<Eigen::Vector3f>& points, std::size_t sample) {
+  pcl::PointCloud<pcl::PointXYZ>::Ptr tangents(new pcl::PointCloud<pcl::PointXYZ>);
+  for (const auto& p : points)
+    if (inFront(p))
+      tangents->push_back(pcl::PointXYZ(p.x() / p.z(), p.y() / p.z(), 0.f));
+  if (tangents->size() < 2)
+    return 0.002f;
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(tangents);
+  const std::size_t stride =
+      std::max<std::size_t>(1, tangents->size() / std::max<std::size_t>(1, sample));
+  std::vector<float> spacing;
+  pcl::Indices index(2);
+  std::vector<float> sq(2);
+  for (std::size_t i = 0; i < tangents->size(); i += stride)
+    if (tree.nearestKSearch((*tangents)[i], 2, index, sq) == 2 && sq[1] > 0.f)
+      spacing.push_back(std::sqrt(sq[1]));
+  if (spacing.empty())
+    return 0.002f;
+  std::nth_element(spacing.begin(), spacing.begin() + static_cast<long>(spacing.size() / 2),
+                   spacing.end());
+  return spacing[spacing.size() / 2];
+}
+
+}  // namespace icf
+}  // namespace pcl

@@ -33,6 +33,22 @@ std::vector<double> parseNumbers(const std::string& text, const std::string& whe
   return values;
 }
 
+/** truth=: 16 (or 12) row-major numbers of a rigid transform. */
+Eigen::Isometry3d parseTruth(const std::string& value, const std::string& where) {
+  const auto v = parseNumbers(value, where);
+  if (v.size() != 16 && v.size() != 12)
+    throw BadInput(where + ": truth needs 16 (or 12) row-major numbers, or none");
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  for (std::size_t i = 0; i < v.size(); ++i)
+    m(static_cast<int>(i / 4), static_cast<int>(i % 4)) = v[i];
+  const Eigen::Matrix3d r = m.topLeftCorner<3, 3>();
+  if ((r.transpose() * r - Eigen::Matrix3d::Identity()).norm() > 1e-4 || r.determinant() < 0.0)
+    throw BadInput(where + ": truth's rotation is not a rotation");
+  Eigen::Isometry3d pose;
+  pose.matrix() = m;
+  return pose;
+}
+
 }  // namespace
 
 t::Symmetry parseSymmetry(const std::string& spec, const std::string& where) {
@@ -107,17 +123,9 @@ std::vector<CaseSpec> readManifest(const fs::path& path) {
         else
           throw BadInput(where + ": units must be m or mm, not " + value);
       } else if (key == "truth") {
-        const auto v = parseNumbers(value, where);
-        if (v.size() != 16 && v.size() != 12)
-          throw BadInput(where + ": truth needs 16 (or 12) row-major numbers");
-        Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-        for (std::size_t i = 0; i < v.size(); ++i)
-          m(static_cast<int>(i / 4), static_cast<int>(i % 4)) = v[i];
-        const Eigen::Matrix3d r = m.topLeftCorner<3, 3>();
-        if ((r.transpose() * r - Eigen::Matrix3d::Identity()).norm() > 1e-4 ||
-            r.determinant() < 0.0)
-          throw BadInput(where + ": truth's rotation is not a rotation");
-        c.truth.matrix() = m;
+        c.absent = value == "none";
+        if (!c.absent)
+          c.truth = parseTruth(value, where);
       } else if (key == "symmetry") {
         parseSymmetry(value, where);
         c.symmetry_spec = value;
@@ -157,6 +165,8 @@ std::vector<CaseSpec> readManifest(const fs::path& path) {
       } else
         throw BadInput(where + ": unknown key " + key);
     }
+    if (c.absent && c.cluster.rfind("crop:", 0) == 0)
+      throw BadInput(where + ": cluster=crop needs the model's pose: not with truth=none");
     if (!names.insert(c.name).second)
       throw BadInput(where + ": case name " + c.name + " repeats");
     if (c.group.empty())

@@ -29,6 +29,9 @@ struct CaseSpec {
   std::filesystem::path scene, model;
   double scale = 1.0;                                       ///< model units to metres
   Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();  ///< model (metres) -> scene
+  /** truth=none: the model is absent from the scene (a target-absent case); truth is then the
+   * identity and unused. A method is right on such a case when it says "not found". */
+  bool absent = false;
   std::string symmetry_spec = "none";
   /** The frame the errors are measured in, in the model frame: its origin (center=) is the
    * point whose translation error counts and the symmetry's centre, its axes (axes=) the

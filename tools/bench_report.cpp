@@ -40,6 +40,53 @@ std::string csvEscape(const std::string& s) {
   return out + "\"";
 }
 
+/** "k/N (x%)", or "—" for no cases. */
+std::string countAndRate(std::size_t k, std::size_t n) {
+  if (n == 0)
+    return "—";
+  char cell[64];
+  std::snprintf(cell, sizeof(cell), "%zu/%zu (%.0f%%)", k, n,
+                100.0 * static_cast<double>(k) / static_cast<double>(n));
+  return cell;
+}
+
+/** One method's line of formatTable; the error columns are "—" without present cases. */
+std::string tableLine(const std::string& method, const Summary& s) {
+  char errors[256] = "— | — | — | — | — | — | — | —";
+  if (s.n)
+    std::snprintf(errors, sizeof(errors), "%.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f",
+                  s.t_mean, s.t_median, s.t_std, s.r_mean, s.r_median, s.r_std, s.adds_mean,
+                  s.adds_median);
+  char success[32] = "—";
+  if (s.n)
+    std::snprintf(success, sizeof(success), "%.0f%%", 100.0 * s.success);
+  char line[512];
+  std::snprintf(line, sizeof(line), "| %s | %zu | %s | %zu | %s | %s | %.0f |\n", method.c_str(),
+                s.n, success, s.absent, countAndRate(s.false_poses, s.absent).c_str(), errors,
+                s.time_median);
+  return line;
+}
+
+/** The summary CSV's fields after group and method; a rate or error without cases to
+ * measure it on is empty. */
+std::string summaryFields(const Summary& s) {
+  std::ostringstream f;
+  f << s.n << ",";
+  if (s.n)
+    f << s.success;
+  f << "," << s.absent << ",";
+  if (s.absent)
+    f << s.false_pose_rate;
+  f << ",";
+  if (s.n)
+    f << s.t_mean << "," << s.t_median << "," << s.t_std << "," << s.r_mean << "," << s.r_median
+      << "," << s.r_std << "," << s.adds_mean << "," << s.adds_median;
+  else
+    f << ",,,,,,,";
+  f << "," << s.time_median;
+  return f.str();
+}
+
 }  // namespace
 
 double median(std::vector<double> v) {
@@ -52,17 +99,24 @@ double median(std::vector<double> v) {
 
 Summary summarize(const std::vector<const Row*>& rows) {
   Summary s;
-  s.n = rows.size();
   std::vector<double> t, r, a, ms;
   for (const Row* row : rows) {
+    ms.push_back(row->ms);
+    if (row->absent) {
+      ++s.absent;
+      s.false_poses += row->false_pose;
+      continue;
+    }
+    ++s.n;
     t.push_back(row->t_mm);
     r.push_back(row->r_deg);
     a.push_back(row->adds_mm);
-    ms.push_back(row->ms);
     s.success += row->success;
   }
   if (s.n)
     s.success /= static_cast<double>(s.n);
+  if (s.absent)
+    s.false_pose_rate = static_cast<double>(s.false_poses) / static_cast<double>(s.absent);
   meanStd(t, s.t_mean, s.t_std);
   meanStd(r, s.r_mean, s.r_std);
   double unused;
@@ -77,12 +131,18 @@ Summary summarize(const std::vector<const Row*>& rows) {
 void writeCasesCsv(const fs::path& file, const std::vector<Row>& rows) {
   std::ofstream csv(file);
   csv << "case,group,method,points,t_err_mm,r_err_deg,r_err_nosym_deg,adds_mm,time_ms,"
-         "success,converged,detail,pose_row_major\n";
+         "success,converged,absent,false_pose,detail,pose_row_major\n";
   csv.precision(6);
   for (const Row& r : rows) {
     csv << csvEscape(r.case_name) << "," << csvEscape(r.group) << "," << r.method << "," << r.points
-        << "," << r.t_mm << "," << r.r_deg << "," << r.r_nosym_deg << "," << r.adds_mm << ","
-        << r.ms << "," << r.success << "," << r.converged << "," << csvEscape(r.detail) << ",";
+        << ",";
+    // A target-absent case has no errors: empty fields.
+    if (r.absent)
+      csv << ",,,,";
+    else
+      csv << r.t_mm << "," << r.r_deg << "," << r.r_nosym_deg << "," << r.adds_mm << ",";
+    csv << r.ms << "," << r.success << "," << r.converged << "," << r.absent << "," << r.false_pose
+        << "," << csvEscape(r.detail) << ",";
     // The estimated pose (model -> scene), the top 3 rows; full precision to recompute.
     csv.precision(9);
     for (int i = 0; i < 12; ++i)
@@ -95,8 +155,9 @@ void writeCasesCsv(const fs::path& file, const std::vector<Row>& rows) {
 void writeSummaryCsv(const fs::path& file, const std::vector<std::string>& groups,
                      const std::vector<std::string>& methods, const RowSelector& rowsOf) {
   std::ofstream csv(file);
-  csv << "group,method,cases,success_rate,t_mean_mm,t_median_mm,t_std_mm,r_mean_deg,"
-         "r_median_deg,r_std_deg,adds_mean_mm,adds_median_mm,time_median_ms\n";
+  csv << "group,method,cases,success_rate,absent_cases,false_pose_rate,t_mean_mm,t_median_mm,"
+         "t_std_mm,r_mean_deg,r_median_deg,r_std_deg,adds_mean_mm,adds_median_mm,"
+         "time_median_ms\n";
   std::vector<std::string> all_groups = {""};
   all_groups.insert(all_groups.end(), groups.begin(), groups.end());
   for (const auto& g : all_groups)
@@ -105,31 +166,21 @@ void writeSummaryCsv(const fs::path& file, const std::vector<std::string>& group
       if (selected.empty())
         continue;
       const Summary s = summarize(selected);
-      csv << csvEscape(g.empty() ? "ALL" : g) << "," << m << "," << s.n << "," << s.success << ","
-          << s.t_mean << "," << s.t_median << "," << s.t_std << "," << s.r_mean << "," << s.r_median
-          << "," << s.r_std << "," << s.adds_mean << "," << s.adds_median << "," << s.time_median
-          << "\n";
+      csv << csvEscape(g.empty() ? "ALL" : g) << "," << m << "," << summaryFields(s) << "\n";
     }
 }
 
 std::string formatTable(const std::vector<std::string>& methods,
                         const std::function<std::vector<const Row*>(const std::string&)>& rowsOf) {
   std::ostringstream md;
-  md << "| method | cases | success (1 cm, 5°) | t mean (mm) | t median | t std | r mean (°) "
-        "| r median | r std | ADD-S mean (mm) | ADD-S median | median time (ms) |\n"
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-  char line[512];
+  md << "| method | cases | success (1 cm, 5°) | absent | false poses | t mean (mm) | t median "
+        "| t std | r mean (°) | r median | r std | ADD-S mean (mm) | ADD-S median | median time "
+        "(ms) |\n"
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& m : methods) {
     const auto rows = rowsOf(m);
-    if (rows.empty())
-      continue;
-    const Summary s = summarize(rows);
-    std::snprintf(line, sizeof(line),
-                  "| %s | %zu | %.0f%% | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | "
-                  "%.0f |\n",
-                  m.c_str(), s.n, 100.0 * s.success, s.t_mean, s.t_median, s.t_std, s.r_mean,
-                  s.r_median, s.r_std, s.adds_mean, s.adds_median, s.time_median);
-    md << line;
+    if (!rows.empty())
+      md << tableLine(m, summarize(rows));
   }
   return md.str();
 }

@@ -26,14 +26,21 @@ struct Row {
   std::size_t points = 0;
   double t_mm = 0, r_deg = 0, r_nosym_deg = 0, adds_mm = 0, ms = 0;
   bool success = false, converged = false;
+  /** A target-absent case (truth=none): no errors are measured and success stays false; the
+   * method is right when it says not found (converged false), else the row is a false pose. */
+  bool absent = false, false_pose = false;
   std::string detail;
   Eigen::Matrix4f object_pose = Eigen::Matrix4f::Identity();  ///< the estimate, model -> scene
 };
 
-/** A group's (or all groups') statistics for one method. */
+/** A group's (or all groups') statistics for one method. Success and errors are over the
+ * cases with the target present (n); false poses over the target-absent ones (absent); the
+ * median time over all. */
 struct Summary {
   std::size_t n = 0;
   double success = 0;
+  std::size_t absent = 0, false_poses = 0;
+  double false_pose_rate = 0;  ///< false_poses / absent (0 without absent cases)
   double t_mean = 0, t_median = 0, t_std = 0;
   double r_mean = 0, r_median = 0, r_std = 0;
   double adds_mean = 0, adds_median = 0, time_median = 0;
@@ -42,8 +49,9 @@ struct Summary {
 /** The median (mean of the middle two for an even count); 0 for none. */
 double median(std::vector<double> v);
 
-/** Success rate, mean / median / sample standard deviation of the errors, ADD-S and the
- * median time over \a rows. */
+/** Success rate, mean / median / sample standard deviation of the errors and ADD-S over the
+ * present-target rows of \a rows, the false-pose rate over its absent-target rows and the
+ * median time over all of them. */
 Summary summarize(const std::vector<const Row*>& rows);
 
 /** Rows of one method, of one group ("" for all groups). */

@@ -2,8 +2,8 @@
 // thesis's models (chapter 6-7) seen by a simulated Kinect — and its manifest
 // (doc/DATASETS.md).
 //
-//   pcl_icf_make_dataset --out DIR [--manifest FILE] [--kind views|tabletop] [--cases N]
-//                        [--models Box5,YellowRoundSalt,EisKaffe,Amicelly] [--seed S]
+//   pcl_icf_make_dataset --out DIR [--manifest FILE] [--kind views|tabletop|absent] [--cases N]
+//                        [--models A,B,...] [--seed S]
 //
 // --kind views (default): per model N single-object clusters, the model at a uniformly random
 //   rotation, x, y in [-0.15, 0.15] m and 0.7-1.1 m in front of the camera (the test support's
@@ -14,12 +14,19 @@
 //   pixels (an oracle segmentation, occlusion by the neighbours included). Groups S1-Box5
 //   (with a cup and the statue), S2-Box5 (with a larger box), S3-YellowRoundSalt (with Box5),
 //   S5-Amicelly and S5-EisKaffe (the two together). --models filters by target model.
+// --kind absent: target-absent table tops. The same scenes, but the asked-for model is NOT on
+//   the table: a similar shape (the decoy) stands there instead, with neighbours. Groups
+//   A-TallCylinder (a shorter, wider cylinder), A-Box5 (a box of other proportions),
+//   A-Amicelly (YellowRoundSalt, a cylinder), A-EisKaffe (YellowRoundSalt), A-YellowRoundSalt
+//   (EisKaffe). The scene file is the whole organized frame with colour, table included; the
+//   manifest line says truth=none cluster=all. --models filters by target model.
 // Noise everywhere: 1.5 mm at 1 m growing with depth^2, 5% outliers within +-5 cm along the
 // ray (test::ScanNoise defaults). Case k of a group draws from std::mt19937_64 seeded with
 // seed + 1000 * group + k, so adding cases never changes the earlier ones.
 //
 // Writes DIR/models/<Model>.ply (binary PLY, metres), DIR/<kind>/<case>.pcd (binary_compressed PCD,
-// PointXYZ, camera at the origin) and the manifest (default DIR/manifest.txt) whose paths are
+// camera at the origin: PointXYZ clusters, or for absent organized 640x480 PointXYZRGB frames
+// with NaN where nothing was hit) and the manifest (default DIR/manifest.txt) whose paths are
 // relative to the manifest's directory. Exit codes: 0 written, 2 bad usage or I/O error.
 #include "comma_list.h"
 #include "support/depth_camera.h"
@@ -42,6 +49,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -54,19 +62,56 @@ struct Options {
   fs::path manifest;
   std::string kind = "views";
   int cases = 30;
-  std::vector<std::string> models = {"Box5", "YellowRoundSalt", "EisKaffe", "Amicelly"};
+  std::vector<std::string> models;  ///< empty: every model (views: the four thesis models)
   std::uint64_t seed = 2013;
 };
 
 int usage(const char* program) {
   std::fprintf(stderr,
-               "Usage: %s --out DIR [--manifest FILE] [--kind views|tabletop] [--cases N]\n"
+               "Usage: %s --out DIR [--manifest FILE] [--kind views|tabletop|absent] [--cases N]\n"
                "          [--models A,B,...] [--seed S]\n"
                "Writes a seeded synthetic suite of the thesis's models and its manifest\n"
-               "(format: doc/DATASETS.md). Defaults: views, 30 cases per group, the four\n"
-               "thesis models, seed 2013, manifest DIR/manifest.txt.\n",
+               "(format: doc/DATASETS.md). Defaults: views, 30 cases per group, every model\n"
+               "(views: the four thesis models), seed 2013, manifest DIR/manifest.txt.\n",
                program);
   return 2;
+}
+
+/** The options; std::invalid_argument on a bad one. False for --help. */
+bool parseOptions(int argc, char** argv, Options& opt) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc)
+        throw std::invalid_argument(arg + " needs a value");
+      return argv[++i];
+    };
+    if (arg == "--out")
+      opt.out = value();
+    else if (arg == "--manifest")
+      opt.manifest = value();
+    else if (arg == "--kind")
+      opt.kind = value();
+    else if (arg == "--cases")
+      opt.cases = std::stoi(value());
+    else if (arg == "--models")
+      opt.models = pcl_icf_tools::splitComma(value());
+    else if (arg == "--seed")
+      opt.seed = std::stoull(value());
+    else if (arg == "-h" || arg == "--help")
+      return false;
+    else
+      throw std::invalid_argument("unknown option " + arg);
+  }
+  if (opt.out.empty())
+    throw std::invalid_argument("--out is required");
+  if (opt.kind != "views" && opt.kind != "tabletop" && opt.kind != "absent")
+    throw std::invalid_argument("--kind must be views, tabletop or absent, not " + opt.kind);
+  if (opt.cases < 1 || opt.cases > 100000)
+    throw std::invalid_argument("--cases must lie in [1, 100000]");
+  if (opt.manifest.empty())
+    opt.manifest = opt.out / "manifest.txt";
+  return true;
 }
 
 /** The manifest's symmetry spec of a model (doc/DATASETS.md), from its name. */
@@ -89,10 +134,83 @@ std::string truthSpec(const Eigen::Isometry3d& pose) {
   return out.str();
 }
 
+/** A model of the suites by name: the thesis's models and distractors (thesisModel), and the
+ * shapes made here: LargeBox (scenario 2's "another rectangular shaped object"), and for the
+ * absent kind TallCylinder (the target: r 3.5 cm, h 16 cm, red), WideCylinder (its decoy:
+ * shorter and wider, r 5 cm, h 10 cm, red too) and OtherBox (Box5's decoy: 16 x 6 x 10 cm,
+ * Box5's blue). The decoys made here carry their target's colour, so colour cannot tell them
+ * apart; the thesis models keep their own. */
+t::SyntheticModel modelByName(const std::string& name) {
+  const Eigen::Vector3f red(0.80f, 0.12f, 0.10f), blue(0.10f, 0.25f, 0.80f);
+  t::SyntheticModel m;
+  m.name = name;
+  if (name == "LargeBox") {
+    m.mesh = t::makeBox(0.20, 0.12, 0.08);
+    m.symmetry = t::Symmetry::box(0.20, 0.12, 0.08);
+  } else if (name == "TallCylinder" || name == "WideCylinder") {
+    const bool tall = name == "TallCylinder";
+    m.mesh = t::makeCylinder(tall ? 0.035 : 0.05, tall ? 0.16 : 0.10, 32);
+    m.symmetry = t::Symmetry::cylinder(true);
+    m.rgb = red;
+  } else if (name == "OtherBox") {
+    m.mesh = t::makeBox(0.16, 0.06, 0.10);
+    m.symmetry = t::Symmetry::box(0.16, 0.06, 0.10);
+    m.rgb = blue;
+  } else {
+    return t::thesisModel(name);
+  }
+  return m;
+}
+
+/** A group of a suite: its name, the target model, the objects on the table. */
+struct Group {
+  std::string name, target;
+  std::vector<std::string> objects;  ///< views, tabletop: the target first; absent: no target
+};
+
+std::vector<Group> allGroups(const std::string& kind) {
+  if (kind == "views") {
+    std::vector<Group> groups;
+    for (const char* m : {"Box5", "YellowRoundSalt", "EisKaffe", "Amicelly"})
+      groups.push_back({m, m, {m}});
+    return groups;
+  }
+  if (kind == "tabletop")
+    return {{"S1-Box5", "Box5", {"Box5", "Cup", "Statue"}},
+            {"S2-Box5", "Box5", {"Box5", "LargeBox"}},
+            {"S3-YellowRoundSalt", "YellowRoundSalt", {"YellowRoundSalt", "Box5"}},
+            {"S5-Amicelly", "Amicelly", {"Amicelly", "EisKaffe"}},
+            {"S5-EisKaffe", "EisKaffe", {"EisKaffe", "Amicelly"}}};
+  // absent: the decoy first (the redraw rule watches it), then the neighbours.
+  return {{"A-TallCylinder", "TallCylinder", {"WideCylinder", "Box5", "Cup"}},
+          {"A-Box5", "Box5", {"OtherBox", "Cup", "Statue"}},
+          {"A-Amicelly", "Amicelly", {"YellowRoundSalt", "Statue"}},
+          {"A-EisKaffe", "EisKaffe", {"YellowRoundSalt", "Box5", "Statue"}},
+          {"A-YellowRoundSalt", "YellowRoundSalt", {"EisKaffe", "Box5", "Cup"}}};
+}
+
+/** The kind's groups whose target --models names (all without --models; views: in its
+ * order). */
+std::vector<Group> selectedGroups(const Options& opt) {
+  std::vector<Group> groups;
+  if (opt.kind == "views" && !opt.models.empty()) {
+    for (const auto& m : opt.models)
+      groups.push_back({m, m, {m}});
+    return groups;
+  }
+  for (const auto& g : allGroups(opt.kind))
+    if (opt.models.empty() ||
+        std::find(opt.models.begin(), opt.models.end(), g.target) != opt.models.end())
+      groups.push_back(g);
+  return groups;
+}
+
 struct Case {
-  std::string name, group, model;
-  Eigen::Isometry3d truth;
-  pcl::PointCloud<pcl::PointXYZ>::Ptr cluster;
+  std::string model;
+  Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
+  bool absent = false;
+  pcl::PointCloud<pcl::PointXYZ>::Ptr cluster;   ///< views, tabletop
+  pcl::PointCloud<pcl::PointXYZRGB>::Ptr scene;  ///< absent: the whole frame
 };
 
 /** One view of the model alone at a random pose; redrawn while fewer than 200 points show. */
@@ -109,12 +227,29 @@ Case makeView(const t::SyntheticModel& model, std::uint64_t seed) {
   return c;
 }
 
-/** A thesis scenario: the target (objects[0]) and its neighbours upright on the table at
- * random places at least 2 cm apart (bounding circles); redrawn while the target shows fewer
- * than 200 points. */
-Case makeTabletop(const std::vector<t::SyntheticModel>& objects, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
+/** Random (x, y, yaw) on the table for objects of these bounding-circle radii, at least 2 cm
+ * apart (the last draw when 1000 fail). */
+std::vector<Eigen::Vector3d> placeObjects(const std::vector<double>& radius, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> x(-0.25, 0.25), y(-0.15, 0.15), yaw(-M_PI, M_PI);
+  std::vector<Eigen::Vector3d> placement;
+  for (std::size_t i = 0; i < radius.size(); ++i) {
+    Eigen::Vector3d p;
+    bool free = false;
+    for (int attempt = 0; attempt < 1000 && !free; ++attempt) {
+      p = Eigen::Vector3d(x(rng), y(rng), yaw(rng));
+      free = true;
+      for (std::size_t j = 0; j < placement.size(); ++j)
+        free = free && (p.head<2>() - placement[j].head<2>()).norm() > radius[i] + radius[j] + 0.02;
+    }
+    placement.push_back(p);
+  }
+  return placement;
+}
+
+/** The objects upright on the table at random places at least 2 cm apart (bounding circles),
+ * seen from a random height and tilt; redrawn while objects[0] shows fewer than 200 points. */
+t::TabletopScene drawTabletop(const std::vector<t::SyntheticModel>& objects, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> height(0.5, 0.8), tilt(35.0, 60.0);
   std::vector<double> radius;
   for (const auto& o : objects) {
@@ -122,31 +257,117 @@ Case makeTabletop(const std::vector<t::SyntheticModel>& objects, std::uint64_t s
     radius.push_back(0.5 * (box.max() - box.min()).head<2>().norm());
   }
   for (;;) {
-    std::vector<Eigen::Vector3d> placement;
-    for (std::size_t i = 0; i < objects.size(); ++i) {
-      Eigen::Vector3d p;
-      bool free = false;
-      for (int attempt = 0; attempt < 1000 && !free; ++attempt) {
-        p = Eigen::Vector3d(x(rng), y(rng), yaw(rng));
-        free = true;
-        for (std::size_t j = 0; j < placement.size(); ++j)
-          free =
-              free && (p.head<2>() - placement[j].head<2>()).norm() > radius[i] + radius[j] + 0.02;
-      }
-      placement.push_back(p);
-    }
+    const std::vector<Eigen::Vector3d> placement = placeObjects(radius, rng);
     t::ScanNoise noise;
     noise.seed = rng();
     const double h = height(rng), a = tilt(rng);
-    const t::TabletopScene scene =
+    t::TabletopScene scene =
         t::makeTabletopScene(objects, placement, t::CameraIntrinsics(), noise, h, a);
-    Case c;
-    c.model = objects[0].name;
-    c.truth = scene.poses[0];
-    c.cluster = t::extractLabelCloud(scene.scan, 1);
-    if (c.cluster->size() >= 200)
-      return c;
+    if (t::extractLabelCloud(scene.scan, 1)->size() >= 200)
+      return scene;
   }
+}
+
+/** A thesis scenario: the target (objects[0]) and its neighbours; the cluster is the target's
+ * own pixels. */
+Case makeTabletop(const std::vector<t::SyntheticModel>& objects, std::uint64_t seed) {
+  const t::TabletopScene scene = drawTabletop(objects, seed);
+  Case c;
+  c.model = objects[0].name;
+  c.truth = scene.poses[0];
+  c.cluster = t::extractLabelCloud(scene.scan, 1);
+  return c;
+}
+
+/** A target-absent scene: the decoy (objects[0]) and the neighbours, the whole frame. */
+Case makeAbsent(const std::string& target, const std::vector<t::SyntheticModel>& objects,
+                std::uint64_t seed) {
+  Case c;
+  c.model = target;
+  c.absent = true;
+  c.scene = drawTabletop(objects, seed).scan.cloud;
+  return c;
+}
+
+Case makeCase(const Options& opt, const Group& g, const std::vector<t::SyntheticModel>& objects,
+              std::uint64_t seed) {
+  if (opt.kind == "views")
+    return makeView(objects[0], seed);
+  if (opt.kind == "tabletop")
+    return makeTabletop(objects, seed);
+  return makeAbsent(g.target, objects, seed);
+}
+
+std::string manifestHeader(const Options& opt) {
+  std::string text =
+      "# pcl_icf bench manifest v1 (doc/DATASETS.md)\n# written by: "
+      "pcl_icf_make_dataset --kind " +
+      opt.kind + " --cases " + std::to_string(opt.cases) + " --seed " + std::to_string(opt.seed) +
+      "\n# Simulated Kinect (640x480, f 525 px), noise 1.5 mm at 1 m ~ depth^2, 5% "
+      "outliers within +-5 cm; scenes in metres, camera at the origin.\n";
+  if (opt.kind == "absent")
+    text +=
+        "# TARGET ABSENT (truth=none): each scene is a whole organized frame (x y z rgb, table\n"
+        "# included) holding a shape similar to the asked-for model, never the model itself.\n"
+        "# A pose claimed here is a false pose. For the scene-level method:\n"
+        "#   pcl_icf_bench --methods icf-scene THIS_MANIFEST\n"
+        "# (cluster=all is the whole frame: the cluster methods are not run on these cases).\n";
+  return text;
+}
+
+/** Writes the case's cloud and returns its manifest line. */
+std::string writeCase(const Options& opt, const Group& g, const Case& c, const std::string& name,
+                      const fs::path& model_path, const fs::path& base) {
+  const fs::path scene_path = opt.out / opt.kind / (name + ".pcd");
+  const int status = c.absent
+                         ? pcl::io::savePCDFileBinaryCompressed(scene_path.string(), *c.scene)
+                         : pcl::io::savePCDFileBinaryCompressed(scene_path.string(), *c.cluster);
+  if (status != 0)
+    throw std::runtime_error("cannot write " + scene_path.string());
+  std::string line = "name=" + name + " group=" + g.name +
+                     " scene=" + fs::relative(scene_path, base).string() +
+                     " model=" + fs::relative(model_path, base).string() + " units=m truth=";
+  if (c.absent)
+    return line + "none cluster=all\n";
+  return line + truthSpec(c.truth) + " symmetry=" + symmetrySpec(c.model) + " cluster=all\n";
+}
+
+/** Every case of every group, written with its manifest; the number of cases. */
+std::size_t writeSuite(const Options& opt, const std::vector<Group>& groups) {
+  const fs::path base =
+      opt.manifest.parent_path().empty() ? fs::path(".") : opt.manifest.parent_path();
+  fs::create_directories(opt.out / "models");
+  fs::create_directories(opt.out / opt.kind);
+  fs::create_directories(base);
+  std::ofstream manifest(opt.manifest);
+  if (!manifest)
+    throw std::runtime_error("cannot write " + opt.manifest.string());
+  manifest << manifestHeader(opt);
+  const bool tty = isatty(STDERR_FILENO);
+  std::size_t written = 0;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    std::vector<t::SyntheticModel> objects;
+    for (const auto& name : groups[g].objects)
+      objects.push_back(modelByName(name));
+    const fs::path model_path = opt.out / "models" / (groups[g].target + ".ply");
+    if (pcl::io::savePLYFileBinary(model_path.string(), modelByName(groups[g].target).mesh) != 0)
+      throw std::runtime_error("cannot write " + model_path.string());
+    for (int k = 0; k < opt.cases; ++k) {
+      const std::uint64_t seed = opt.seed + 1000 * g + static_cast<std::uint64_t>(k);
+      const Case c = makeCase(opt, groups[g], objects, seed);
+      char name[128];
+      std::snprintf(name, sizeof(name), "%s_%03d", groups[g].name.c_str(), k);
+      manifest << writeCase(opt, groups[g], c, name, model_path, base);
+      ++written;
+      if (tty)
+        std::fprintf(stderr, "\r[%zu/%zu] %s (%zu points)   ", written,
+                     groups.size() * static_cast<std::size_t>(opt.cases), name,
+                     c.absent ? c.scene->size() : c.cluster->size());
+    }
+  }
+  if (tty)
+    std::fprintf(stderr, "\n");
+  return written;
 }
 
 }  // namespace
@@ -154,115 +375,17 @@ Case makeTabletop(const std::vector<t::SyntheticModel>& objects, std::uint64_t s
 int main(int argc, char** argv) {
   Options opt;
   try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string arg = argv[i];
-      auto value = [&]() -> std::string {
-        if (i + 1 >= argc)
-          throw std::invalid_argument(arg + " needs a value");
-        return argv[++i];
-      };
-      if (arg == "--out")
-        opt.out = value();
-      else if (arg == "--manifest")
-        opt.manifest = value();
-      else if (arg == "--kind")
-        opt.kind = value();
-      else if (arg == "--cases")
-        opt.cases = std::stoi(value());
-      else if (arg == "--models")
-        opt.models = pcl_icf_tools::splitComma(value());
-      else if (arg == "--seed")
-        opt.seed = std::stoull(value());
-      else if (arg == "-h" || arg == "--help")
-        return usage(argv[0]) - 2;
-      else
-        throw std::invalid_argument("unknown option " + arg);
-    }
-    if (opt.out.empty())
-      throw std::invalid_argument("--out is required");
-    if (opt.kind != "views" && opt.kind != "tabletop")
-      throw std::invalid_argument("--kind must be views or tabletop, not " + opt.kind);
-    if (opt.cases < 1 || opt.cases > 100000)
-      throw std::invalid_argument("--cases must lie in [1, 100000]");
+    if (!parseOptions(argc, argv, opt))
+      return usage(argv[0]) - 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "pcl_icf_make_dataset: %s\n", e.what());
     return usage(argv[0]);
   }
-  if (opt.manifest.empty())
-    opt.manifest = opt.out / "manifest.txt";
-
   try {
-    // Groups: (name, target + neighbours).
-    std::vector<std::pair<std::string, std::vector<std::string>>> groups;
-    if (opt.kind == "views") {
-      for (const auto& m : opt.models)
-        groups.push_back({m, {m}});
-    } else {
-      const std::vector<std::pair<std::string, std::vector<std::string>>> scenarios = {
-          {"S1-Box5", {"Box5", "Cup", "Statue"}},
-          {"S2-Box5", {"Box5", "LargeBox"}},
-          {"S3-YellowRoundSalt", {"YellowRoundSalt", "Box5"}},
-          {"S5-Amicelly", {"Amicelly", "EisKaffe"}},
-          {"S5-EisKaffe", {"EisKaffe", "Amicelly"}}};
-      for (const auto& s : scenarios)
-        if (std::find(opt.models.begin(), opt.models.end(), s.second[0]) != opt.models.end())
-          groups.push_back(s);
-    }
-    auto modelByName = [](const std::string& name) {
-      if (name == "LargeBox") {  // scenario 2's "another rectangular shaped object"
-        t::SyntheticModel m;
-        m.name = name;
-        m.mesh = t::makeBox(0.20, 0.12, 0.08);
-        m.symmetry = t::Symmetry::box(0.20, 0.12, 0.08);
-        return m;
-      }
-      return t::thesisModel(name);
-    };
-
-    const fs::path base =
-        opt.manifest.parent_path().empty() ? fs::path(".") : opt.manifest.parent_path();
-    fs::create_directories(opt.out / "models");
-    fs::create_directories(opt.out / opt.kind);
-    fs::create_directories(base);
-    std::ofstream manifest(opt.manifest);
-    if (!manifest)
-      throw std::runtime_error("cannot write " + opt.manifest.string());
-    manifest << "# pcl_icf bench manifest v1 (doc/DATASETS.md)\n"
-             << "# written by: pcl_icf_make_dataset --kind " << opt.kind << " --cases " << opt.cases
-             << " --seed " << opt.seed << "\n"
-             << "# Simulated Kinect (640x480, f 525 px), noise 1.5 mm at 1 m ~ depth^2, 5% "
-                "outliers within +-5 cm; scenes in metres, camera at the origin.\n";
-    const bool tty = isatty(STDERR_FILENO);
-    std::size_t written = 0;
-    for (std::size_t g = 0; g < groups.size(); ++g) {
-      std::vector<t::SyntheticModel> objects;
-      for (const auto& name : groups[g].second)
-        objects.push_back(modelByName(name));
-      const fs::path model_path = opt.out / "models" / (objects[0].name + ".ply");
-      if (pcl::io::savePLYFileBinary(model_path.string(), objects[0].mesh) != 0)
-        throw std::runtime_error("cannot write " + model_path.string());
-      for (int k = 0; k < opt.cases; ++k) {
-        const std::uint64_t seed = opt.seed + 1000 * g + static_cast<std::uint64_t>(k);
-        Case c = opt.kind == "views" ? makeView(objects[0], seed) : makeTabletop(objects, seed);
-        char name[128];
-        std::snprintf(name, sizeof(name), "%s_%03d", groups[g].first.c_str(), k);
-        const fs::path scene_path = opt.out / opt.kind / (std::string(name) + ".pcd");
-        if (pcl::io::savePCDFileBinaryCompressed(scene_path.string(), *c.cluster) != 0)
-          throw std::runtime_error("cannot write " + scene_path.string());
-        manifest << "name=" << name << " group=" << groups[g].first
-                 << " scene=" << fs::relative(scene_path, base).string()
-                 << " model=" << fs::relative(model_path, base).string()
-                 << " units=m truth=" << truthSpec(c.truth)
-                 << " symmetry=" << symmetrySpec(objects[0].name) << " cluster=all\n";
-        ++written;
-        if (tty)
-          std::fprintf(stderr, "\r[%zu/%zu] %s (%zu points)   ", written,
-                       groups.size() * static_cast<std::size_t>(opt.cases), name,
-                       c.cluster->size());
-      }
-    }
-    if (tty)
-      std::fprintf(stderr, "\n");
+    const std::vector<Group> groups = selectedGroups(opt);
+    if (groups.empty())
+      throw std::invalid_argument("--models selects no group of --kind " + opt.kind);
+    const std::size_t written = writeSuite(opt, groups);
     std::printf("wrote %zu cases in %zu groups to %s, manifest %s\n", written, groups.size(),
                 opt.out.string().c_str(), opt.manifest.string().c_str());
   } catch (const std::exception& e) {

@@ -6,7 +6,7 @@
 //     --out DIR            CSV and markdown go here (default bench_out)
 //     --plots DIR          PNG bar charts go here (default: --out)
 //     --name NAME          file prefix (default: the first manifest's stem)
-//     --methods A,B,...    subset of the methods below (default: all)
+//     --methods A,B,...    subset of the methods below (default: all but icf-scene)
 //     --thesis-cases N     run icf-thesis on the first N cases of each group only (default 5;
 //                          -1: all). It costs 10-50 s per case.
 //     --limit N            at most N cases per group
@@ -30,8 +30,16 @@
 //   icp-p2plane   pcl::IterativeClosestPointWithNormals, same start and samples
 //   sacia+icp     FPFH + pcl::SampleConsensusInitialAlignment, then pcl::IterativeClosestPoint
 //   prerej+icp    FPFH + pcl::SampleConsensusPrerejective, then pcl::IterativeClosestPoint
+//   icf-scene     pcl::icf::segmentation::localizeObject on the WHOLE scene (segmentation,
+//                 every cluster, acceptance, ranking), ignoring cluster=; its time is the
+//                 whole call. Only when named in --methods.
 //
-// Per method: success rate (translation <= 1 cm and rotation <= 5 degrees, symmetry-aware),
+// A case with truth=none has the model absent from its scene: a method that claims a pose there
+// (its own verdict, the CSV's converged) gives a false pose. The cluster methods are not run on
+// such a case when its cluster is the whole file (cluster=all): they need a cluster.
+//
+// Per method: success rate (translation <= 1 cm and rotation <= 5 degrees, symmetry-aware) and
+// false-pose rate (over the target-absent cases),
 // mean / median / standard deviation of the translation error (mm) and rotation error
 // (degrees) as the thesis's chapter 7 reports them, ADD-S (mm: mean distance from 2000 truly posed
 // surface samples to the estimated model surface) and the median time. Writes NAME_cases.csv (one
@@ -43,6 +51,7 @@
 #include "bench_manifest.h"
 #include "bench_methods.h"
 #include "bench_report.h"
+#include "bench_scene.h"
 #include "comma_list.h"
 
 #include <pcl/console/print.h>
@@ -69,14 +78,17 @@ namespace t = pcl::icf::test;
 using namespace pcl_icf_tools::bench;
 using Clock = std::chrono::steady_clock;
 
-const std::vector<std::string> kAllMethods = {"icf-fast",  "icf-thesis", "icf-fast+sac",
-                                              "icf-sac",   "icp-p2p",    "icp-p2plane",
-                                              "sacia+icp", "prerej+icp"};
+/** The methods run on the case's cluster; the default set. */
+const std::vector<std::string> kClusterMethods = {"icf-fast",  "icf-thesis", "icf-fast+sac",
+                                                  "icf-sac",   "icp-p2p",    "icp-p2plane",
+                                                  "sacia+icp", "prerej+icp"};
+/** The method run on the whole scene (bench_scene.h). */
+const std::string kSceneMethod = "icf-scene";
 
 struct Options {
   fs::path out_dir = "bench_out", plot_dir;
   std::string name;
-  std::vector<std::string> methods = kAllMethods, manifests;
+  std::vector<std::string> methods = kClusterMethods, manifests;
   int thesis_cases = 5, limit = -1, threads = 0, ia_iterations = 1000, repeat = 1;
   bool plots = true;
   pcl::icf::SacParams sac;
@@ -89,7 +101,7 @@ int usage(const char* program) {
                "          [--thesis-cases N] [--limit N] [--threads N] [--ia-iterations N]\n"
                "          [--sac K=V,...] [--repeat N] [--no-plots] MANIFEST...\n"
                "Methods: icf-fast icf-thesis icf-fast+sac icf-sac icp-p2p icp-p2plane "
-               "sacia+icp prerej+icp\n",
+               "sacia+icp prerej+icp (default: these), icf-scene (whole scene)\n",
                program);
   return 2;
 }
@@ -146,7 +158,8 @@ bool parseOptions(int argc, char** argv, Options& o) {
     else if (arg == "--methods") {
       o.methods = pcl_icf_tools::splitComma(value());
       for (const auto& m : o.methods)
-        if (std::find(kAllMethods.begin(), kAllMethods.end(), m) == kAllMethods.end())
+        if (m != kSceneMethod &&
+            std::find(kClusterMethods.begin(), kClusterMethods.end(), m) == kClusterMethods.end())
           throw std::invalid_argument("unknown method " + m);
     } else if (arg == "--thesis-cases")
       o.thesis_cases = std::stoi(value());
@@ -200,10 +213,29 @@ std::vector<CaseSpec> readCases(const Options& o, std::vector<std::string>& grou
   return cases;
 }
 
-/** Runs one method on one cluster: ICF with the method's strategy and fallback, or a PCL
- * pipeline. */
-MethodRun runMethod(const std::string& m, const CloudXYZ::Ptr& cluster, const PreparedModel& model,
+/** What a case's methods run on: the cluster (cluster methods), the whole scene (icf-scene);
+ * each loaded only when a selected method needs it. */
+struct CaseInput {
+  CloudXYZ::Ptr cluster;
+  SceneInput scene;
+};
+
+/** icf-scene's parameters: the localizer's defaults with the bench's threads and SAC fields. */
+pcl::icf::segmentation::LocalizerParams sceneParams(const Options& o) {
+  pcl::icf::segmentation::LocalizerParams p;
+  p.threads = o.threads;
+  p.icf.threads = o.threads;
+  p.icf.sac = o.sac;
+  return p;
+}
+
+/** Runs one method on one case: the localizer on the whole scene, ICF with the method's
+ * strategy and fallback on the cluster, or a PCL pipeline on the cluster. */
+MethodRun runMethod(const std::string& m, const CaseInput& in, const PreparedModel& model,
                     const Options& o) {
+  if (m == kSceneMethod)
+    return runScene(in.scene, model, sceneParams(o));
+  const CloudXYZ::Ptr& cluster = in.cluster;
   if (m.rfind("icf-", 0) == 0) {
     pcl::icf::IcfParams p;
     p.threads = o.threads;
@@ -227,12 +259,12 @@ MethodRun runMethod(const std::string& m, const CloudXYZ::Ptr& cluster, const Pr
 
 /** The method's run, repeated o.repeat times (icf-thesis once) for its median time; every
  * method is seeded, so repeats only steady the time (a differing pose is reported). */
-MethodRun runRepeated(const std::string& m, const CaseSpec& c, const CloudXYZ::Ptr& cluster,
+MethodRun runRepeated(const std::string& m, const CaseSpec& c, const CaseInput& in,
                       const PreparedModel& model, const Options& o) {
-  MethodRun run = runMethod(m, cluster, model, o);
+  MethodRun run = runMethod(m, in, model, o);
   std::vector<double> times = {run.ms};
   for (int r = 1; r < o.repeat && m != "icf-thesis"; ++r) {
-    const MethodRun again = runMethod(m, cluster, model, o);
+    const MethodRun again = runMethod(m, in, model, o);
     if (!again.object_pose.isApprox(run.object_pose, 1e-5f))
       std::fprintf(stderr, "pcl_icf_bench: %s on %s gave another pose when repeated\n", m.c_str(),
                    c.name.c_str());
@@ -243,7 +275,7 @@ MethodRun runRepeated(const std::string& m, const CaseSpec& c, const CloudXYZ::P
 }
 
 /** The run measured against the case's truth (symmetry-aware, in the case's reference
- * frame). */
+ * frame); on a target-absent case only whether it claimed a pose. */
 Row measure(const std::string& m, const CaseSpec& c, std::size_t points, const MethodRun& run,
             const PreparedModel& model) {
   Row row;
@@ -255,6 +287,11 @@ Row measure(const std::string& m, const CaseSpec& c, std::size_t points, const M
   row.converged = run.converged;
   row.detail = run.detail;
   row.object_pose = run.object_pose;
+  if (c.absent) {
+    row.absent = true;
+    row.false_pose = run.converged;
+    return row;
+  }
   const t::Symmetry symmetry = parseSymmetry(c.symmetry_spec, c.source);
   const Eigen::Isometry3d est(run.object_pose.cast<double>());
   const t::PoseError e = t::poseError(est * c.reference, c.truth * c.reference, symmetry);
@@ -270,33 +307,73 @@ Row measure(const std::string& m, const CaseSpec& c, std::size_t points, const M
 
 using ModelCache = std::map<std::string, std::shared_ptr<PreparedModel>>;
 
-/** Every selected method on every case, with progress on a terminal. */
-std::vector<Row> runAll(const std::vector<CaseSpec>& cases, const Options& o, ModelCache& models) {
+/** A target-absent case whose cluster is its whole file: there is no cluster to give the
+ * cluster methods (a whole frame, table included, is not one). */
+bool withoutCluster(const CaseSpec& c) {
+  return c.absent && c.cluster == "all";
+}
+
+bool runsOnCluster(const std::string& m) {
+  return m != kSceneMethod;
+}
+
+/** Whether method \a m runs on case \a c, the case's \a index_in_group-th. */
+bool runs(const std::string& m, const CaseSpec& c, int index_in_group, const Options& o) {
+  if (m == "icf-thesis" && o.thesis_cases >= 0 && index_in_group >= o.thesis_cases)
+    return false;
+  return !runsOnCluster(m) || !withoutCluster(c);
+}
+
+/** The case's cluster and scene, each when a selected method needs it (not timed). */
+CaseInput loadInput(const CaseSpec& c, const PreparedModel& model, const Options& o) {
+  CaseInput in;
+  Eigen::Vector3f camera;
+  for (const auto& m : o.methods) {
+    if (!runsOnCluster(m) && !in.scene.rgba && !in.scene.xyz)
+      in.scene = loadScene(c);
+    if (runsOnCluster(m) && !in.cluster && !withoutCluster(c))
+      in.cluster = loadCluster(c, model, camera);
+  }
+  return in;
+}
+
+const PreparedModel& modelOf(const CaseSpec& c, const Options& o, ModelCache& models, bool tty) {
+  const std::string model_key = c.model.string() + "@" + std::to_string(c.scale);
+  if (!models.count(model_key)) {
+    if (tty)
+      std::fprintf(stderr, "\r\033[Kpreparing %s ...", c.model.filename().string().c_str());
+    models[model_key] = prepareModel(c.model, c.scale, o.sac, o.threads);
+  }
+  return *models[model_key];
+}
+
+/** Every selected method on every case, with progress on a terminal; \a skipped counts the
+ * cases the cluster methods were not run on (withoutCluster). */
+std::vector<Row> runAll(const std::vector<CaseSpec>& cases, const Options& o, ModelCache& models,
+                        std::size_t& skipped) {
   const bool tty = isatty(STDERR_FILENO);
+  const bool cluster_methods = std::any_of(o.methods.begin(), o.methods.end(),
+                                           [](const auto& m) { return runsOnCluster(m); });
   std::vector<Row> rows;
   std::map<std::string, int> group_index;
   const auto begin = Clock::now();
+  skipped = 0;
   for (std::size_t ci = 0; ci < cases.size(); ++ci) {
     const CaseSpec& c = cases[ci];
-    const std::string model_key = c.model.string() + "@" + std::to_string(c.scale);
-    if (!models.count(model_key)) {
-      if (tty)
-        std::fprintf(stderr, "\r\033[Kpreparing %s ...", c.model.filename().string().c_str());
-      models[model_key] = prepareModel(c.model, c.scale, o.sac, o.threads);
-    }
-    const PreparedModel& model = *models[model_key];
-    Eigen::Vector3f camera;
-    const CloudXYZ::Ptr cluster = loadCluster(c, model, camera);
+    const PreparedModel& model = modelOf(c, o, models, tty);
+    const CaseInput in = loadInput(c, model, o);
+    skipped += cluster_methods && withoutCluster(c);
     const int index_in_group = group_index[c.group]++;
     for (const auto& m : o.methods) {
-      if (m == "icf-thesis" && o.thesis_cases >= 0 && index_in_group >= o.thesis_cases)
+      if (!runs(m, c, index_in_group, o))
         continue;
+      const std::size_t points = runsOnCluster(m) ? in.cluster->size() : in.scene.finite_points;
       if (tty) {
         const double elapsed = std::chrono::duration<double>(Clock::now() - begin).count();
         std::fprintf(stderr, "\r\033[K[%zu/%zu] %s (%zu points): %s   %.0f s elapsed", ci + 1,
-                     cases.size(), c.name.c_str(), cluster->size(), m.c_str(), elapsed);
+                     cases.size(), c.name.c_str(), points, m.c_str(), elapsed);
       }
-      rows.push_back(measure(m, c, cluster->size(), runRepeated(m, c, cluster, model, o), model));
+      rows.push_back(measure(m, c, points, runRepeated(m, c, in, model, o), model));
     }
   }
   if (tty)
@@ -306,7 +383,7 @@ std::vector<Row> runAll(const std::vector<CaseSpec>& cases, const Options& o, Mo
 }
 
 /** NAME.md: how it ran, the table over all groups, one per group, model preparation times. */
-std::string markdownReport(const Options& o, std::size_t case_count,
+std::string markdownReport(const Options& o, std::size_t case_count, std::size_t skipped,
                            const std::vector<std::string>& groups, const RowSelector& rowsOf,
                            const ModelCache& models) {
   std::ostringstream md;
@@ -314,13 +391,18 @@ std::string markdownReport(const Options& o, std::size_t case_count,
      << case_count << " cases in " << groups.size()
      << " groups; success = translation <= " << 1e3 * kSuccessTranslation
      << " mm and rotation <= " << kSuccessRotation
-     << " deg (symmetry-aware); std = sample standard deviation; times per cluster, model "
-        "preparation excluded";
+     << " deg (symmetry-aware), over the cases with the target present; absent = target-absent "
+        "cases (truth=none), false poses = those on which the method claimed a pose; std = "
+        "sample standard deviation; times per cluster (icf-scene: per whole scene, segmentation "
+        "included), model preparation excluded";
   if (std::find(o.methods.begin(), o.methods.end(), "icf-thesis") != o.methods.end() &&
       o.thesis_cases >= 0)
     md << "; icf-thesis on the first " << o.thesis_cases << " cases of each group only";
   if (o.repeat > 1)
     md << "; each time is the median of " << o.repeat << " repeats (icf-thesis: one run)";
+  if (skipped)
+    md << "; the cluster methods were not run on the " << skipped
+       << " target-absent cases whose cluster is the whole file (cluster=all)";
   md << ".\n\nAll groups:\n\n"
      << formatTable(o.methods, [&](const std::string& m) { return rowsOf("", m); });
   for (const auto& g : groups)
@@ -337,6 +419,17 @@ std::string markdownReport(const Options& o, std::size_t case_count,
     md << line;
   }
   return md.str();
+}
+
+/** The groups with a target-present row: the error plots' groups. */
+std::vector<std::string> groupsWithErrors(const std::vector<std::string>& groups,
+                                          const std::vector<Row>& rows) {
+  std::vector<std::string> out;
+  for (const auto& g : groups)
+    if (std::any_of(rows.begin(), rows.end(),
+                    [&g](const Row& r) { return r.group == g && !r.absent; }))
+      out.push_back(g);
+  return out;
 }
 
 }  // namespace
@@ -356,9 +449,10 @@ int main(int argc, char** argv) {
   std::vector<CaseSpec> cases;
   ModelCache models;
   std::vector<Row> rows;
+  std::size_t skipped = 0;
   try {
     cases = readCases(o, groups);
-    rows = runAll(cases, o, models);
+    rows = runAll(cases, o, models, skipped);
   } catch (const std::exception& e) {
     if (isatty(STDERR_FILENO))
       std::fputs("\n", stderr);  // below the progress line
@@ -376,10 +470,16 @@ int main(int argc, char** argv) {
   fs::create_directories(o.out_dir);
   writeCasesCsv(o.out_dir / (o.name + "_cases.csv"), rows);
   writeSummaryCsv(o.out_dir / (o.name + "_summary.csv"), groups, o.methods, rowsOf);
-  const std::string md = markdownReport(o, cases.size(), groups, rowsOf, models);
+  const std::string md = markdownReport(o, cases.size(), skipped, groups, rowsOf, models);
   std::ofstream(o.out_dir / (o.name + ".md")) << md;
   std::cout << md;
-  if (o.plots)
-    writePlots(o.out_dir, o.plot_dir, o.name, groups, o.methods, rowsOf);
+  if (skipped)
+    std::fprintf(stderr,
+                 "pcl_icf_bench: the cluster methods were not run on %zu target-absent cases "
+                 "with cluster=all (use --methods icf-scene for them)\n",
+                 skipped);
+  const std::vector<std::string> plotted = groupsWithErrors(groups, rows);
+  if (o.plots && !plotted.empty())
+    writePlots(o.out_dir, o.plot_dir, o.name, plotted, o.methods, rowsOf);
   return 0;
 }

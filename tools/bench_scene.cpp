@@ -1,0 +1,87 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#include "bench_scene.h"
+
+#include <pcl/common/io.h>
+#include <pcl/icf/io/scene_io.h>
+
+#include <chrono>
+#include <cstdio>
+#include <string>
+
+namespace pcl_icf_tools {
+namespace bench {
+
+namespace seg = pcl::icf::segmentation;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+/** "Found: cluster 3 of 19, score 0.71" or "NotFound: 19 clusters; best score 0.42: why". */
+std::string describe(const seg::Localization& loc) {
+  std::string text = std::string(seg::toString(loc.status)) + ": ";
+  const auto n = std::to_string(loc.clusters.size());
+  char score[32];
+  if (loc.best >= 0) {
+    const auto& best = loc.clusters[static_cast<std::size_t>(loc.best)];
+    std::snprintf(score, sizeof(score), "%.2f", best.score);
+    return text + "cluster " + std::to_string(loc.best) + " of " + n + ", score " + score;
+  }
+  const seg::ClusterLocalization* top = nullptr;
+  for (const auto& c : loc.clusters)
+    if (!top || c.score > top->score)
+      top = &c;
+  if (!top)
+    return text + (loc.message.empty() ? "no cluster" : loc.message);
+  std::snprintf(score, sizeof(score), "%.2f", top->score);
+  return text + n + " clusters; best score " + score + ": " + top->reason;
+}
+
+template <typename PointT>
+MethodRun localize(const pcl::PointCloud<PointT>& scene, const PreparedModel& model,
+                   const seg::LocalizerParams& params) {
+  MethodRun run;
+  const auto start = Clock::now();
+  const seg::Localization loc = seg::localizeObject(scene, *model.icf, params);
+  run.ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  run.converged = loc.status == seg::LocalizationStatus::Found && loc.best >= 0;
+  if (run.converged)
+    run.object_pose = loc.clusters[static_cast<std::size_t>(loc.best)].icf.object_pose;
+  run.detail = describe(loc);
+  return run;
+}
+
+}  // namespace
+
+SceneInput loadScene(const CaseSpec& c) {
+  pcl::icf::io::SceneFileInfo info;
+  pcl::PointCloud<pcl::PointXYZRGBA>::Ptr cloud;
+  try {
+    cloud = pcl::icf::io::loadSceneCloud(c.scene.string(), &info);
+  } catch (const pcl::icf::io::FileError& e) {
+    throw BadInput(c.source + ": " + e.what());
+  }
+  if (c.camera_set)
+    cloud->sensor_origin_.head<3>() = c.camera;
+  SceneInput scene;
+  scene.finite_points = info.finite_points;
+  if (info.has_colour) {
+    scene.rgba = cloud;
+    return scene;
+  }
+  scene.xyz = pcl::make_shared<CloudXYZ>();
+  pcl::copyPointCloud(*cloud, *scene.xyz);
+  scene.xyz->sensor_origin_ = cloud->sensor_origin_;
+  scene.xyz->sensor_orientation_ = cloud->sensor_orientation_;
+  return scene;
+}
+
+MethodRun runScene(const SceneInput& scene, const PreparedModel& model,
+                   const seg::LocalizerParams& params) {
+  return scene.rgba ? localize(*scene.rgba, model, params) : localize(*scene.xyz, model, params);
+}
+
+}  // namespace bench
+}  // namespace pcl_icf_tools

@@ -1,0 +1,41 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+// pcl_icf_bench's scene-level method (icf-scene): the whole localizer on the whole scene,
+// segmentation included, instead of one registration on a given cluster.
+#pragma once
+
+#include "bench_manifest.h"
+#include "bench_methods.h"
+
+#include <pcl/icf/segmentation/object_localizer.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <cstddef>
+
+namespace pcl_icf_tools {
+namespace bench {
+
+/** A case's whole scene as read, the camera set (the manifest's camera=, else the file's
+ * VIEWPOINT): exactly one of the clouds is set, rgba when the file has colour. */
+struct SceneInput {
+  pcl::PointCloud<pcl::PointXYZRGBA>::Ptr rgba;
+  CloudXYZ::Ptr xyz;
+  std::size_t finite_points = 0;
+};
+
+/** Reads the case's scene (any of pcl::icf::io::loadSceneCloud's formats); BadInput naming
+ * the case when it cannot be read or holds no finite point. */
+SceneInput loadScene(const CaseSpec& c);
+
+/** pcl::icf::segmentation::localizeObject on the whole scene; the time is the whole call.
+ * converged: the status is Found; the pose: the best accepted cluster's (identity otherwise);
+ * detail: the status, the clusters tried and the best one's score, or why the best-scoring
+ * cluster was rejected. */
+MethodRun runScene(const SceneInput& scene, const PreparedModel& model,
+                   const pcl::icf::segmentation::LocalizerParams& params);
+
+}  // namespace bench
+}  // namespace pcl_icf_tools

@@ -45,6 +45,7 @@ json clusterJson(const seg::ClusterLocalization& c, int index, const Scene& scen
                        {"seen_through", c.verification.seen_through},
                        {"occluded", c.verification.occluded},
                        {"missing", c.verification.missing},
+                       {"on_background", c.verification.on_background},
                        {"visible_support", c.verification.visible_support},
                        {"silhouette_continuation", c.verification.silhouette_continuation},
                        {"silhouette_pixels", c.verification.silhouette_pixels}};

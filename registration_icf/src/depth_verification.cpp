@@ -217,7 +217,7 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
   if (image.empty() || m.width != image.width() || m.height != image.height())
     return e;
   const int margin = silhouetteMarginPixels(m, image.intrinsics(), diameter, params);
-  std::size_t supported = 0, seen_through = 0, occluded = 0, missing = 0;
+  std::size_t supported = 0, seen_through = 0, occluded = 0, missing = 0, on_background = 0;
   for (int v = m.v_min; v <= m.v_max; ++v)
     for (int u = m.u_min; u <= m.u_max; ++u) {
       const std::size_t i = static_cast<std::size_t>(v) * m.width + u;
@@ -237,10 +237,12 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
         ++seen_through;
       else if (off < -tolerance)
         ++occluded;
+      else if (image.background(u, v))
+        ++on_background;
       else
         ++supported;
     }
-  e.model_pixels = supported + seen_through + occluded + missing;
+  e.model_pixels = supported + seen_through + occluded + missing + on_background;
   if (e.model_pixels == 0)
     return e;
   const double n = static_cast<double>(e.model_pixels);
@@ -248,6 +250,7 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
   e.seen_through = static_cast<double>(seen_through) / n;
   e.occluded = static_cast<double>(occluded) / n;
   e.missing = static_cast<double>(missing) / n;
+  e.on_background = static_cast<double>(on_background) / n;
   e.visible_support =
       supported + seen_through > 0
           ? static_cast<double>(supported) / static_cast<double>(supported + seen_through)

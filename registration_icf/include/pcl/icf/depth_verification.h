@@ -98,6 +98,10 @@ struct DepthExplanation {
   double occluded = 0.0;
   /** No measurement (the sensor's holes, black or shiny surfaces): neither for nor against. */
   double missing = 0.0;
+  /** Measured depth on the model surface, but the measurement belongs to the background (the
+   * table): the table explains it, so it is no evidence for the model (a box laid flat into
+   * the table's surface would otherwise be "supported" everywhere). */
+  double on_background = 0.0;
   /** supported / (supported + seen_through): of the model's pixels where the camera could
    * have seen the model, the share where it did. */
   double visible_support = 0.0;

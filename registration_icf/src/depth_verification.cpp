@@ -59,10 +59,14 @@ void rasterFace(const ProjectedFace& f, const PinholeIntrinsics& k, ModelDepth& 
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
-  const int u0 = std::max(0, static_cast<int>(std::ceil(lo.x())));
-  const int v0 = std::max(0, static_cast<int>(std::ceil(lo.y())));
-  const int u1 = std::min(k.width - 1, static_cast<int>(std::floor(hi.x())));
-  const int v1 = std::min(k.height - 1, static_cast<int>(std::floor(hi.y())));
+  // Clamped as floats first: a vertex just in front of the camera projects far outside.
+  const float w = static_cast<float>(k.width), h = static_cast<float>(k.height);
+  const int u0 = static_cast<int>(std::ceil(std::clamp(lo.x(), 0.f, w)));
+  const int v0 = static_cast<int>(std::ceil(std::clamp(lo.y(), 0.f, h)));
+  const int u1 = static_cast<int>(std::floor(std::clamp(hi.x(), -1.f, w - 1.f)));
+  const int v1 = static_cast<int>(std::floor(std::clamp(hi.y(), -1.f, h - 1.f)));
+  if (!(lo.allFinite() && hi.allFinite()))
+    return;
   const std::size_t n = f.pixels.size();
   float area = 0.f;
   for (std::size_t i = 0; i < n; ++i) {
@@ -165,7 +169,8 @@ int silhouetteMarginPixels(const ModelDepth& m, const PinholeIntrinsics& k, floa
       if (m.covers(u, v))
         z = std::min(z, m.depth[static_cast<std::size_t>(v) * m.width + u]);
   const float pixels = params.silhouette_margin * diameter * std::max(k.fx, k.fy) / z;
-  return std::clamp(static_cast<int>(std::ceil(pixels)), params.border_pixels, 16);
+  const float bounded = std::isfinite(pixels) ? std::clamp(pixels, 0.f, 16.f) : 16.f;
+  return std::clamp(static_cast<int>(std::ceil(bounded)), params.border_pixels, 16);
 }
 
 ModelDepth renderModelDepth(const IcfModel& model, const Eigen::Isometry3f& model_to_camera,

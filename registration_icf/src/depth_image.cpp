@@ -101,8 +101,8 @@ bool DepthImage::pixelOf(const Eigen::Vector3f& p, int& u, int& v) const {
 }
 
 void DepthImage::markBackground(const std::vector<Eigen::Vector3f>& points,
-                                const std::vector<int>& indices) {
-  for (const int i : indices) {
+                                const pcl::Indices& indices) {
+  for (const auto i : indices) {
     if (i < 0 || static_cast<std::size_t>(i) >= points.size())
       continue;
     const Eigen::Vector3f& p = points[static_cast<std::size_t>(i)];

@@ -97,6 +97,7 @@ void rasterFace(const ProjectedFace& f, const PinholeIntrinsics& k, ModelDepth& 
       if (z > 1e-6f && z < out.depth[i]) {
         out.depth[i] = z;
         out.cosine[i] = std::abs(along) / ray.norm();
+        out.nearest = std::min(out.nearest, z);
         out.u_min = std::min(out.u_min, u);
         out.v_min = std::min(out.v_min, v);
         out.u_max = std::max(out.u_max, u);
@@ -162,13 +163,8 @@ int silhouetteMarginPixels(const ModelDepth& m, const PinholeIntrinsics& k, floa
                            const DepthVerificationParams& params) {
   if (m.u_max < m.u_min)
     return params.border_pixels;
-  // The model's depth at the centre of its box, else its nearest depth.
-  float z = DepthImage::kEmpty;
-  for (int v = m.v_min; v <= m.v_max; ++v)
-    for (int u = m.u_min; u <= m.u_max; ++u)
-      if (m.covers(u, v))
-        z = std::min(z, m.depth[static_cast<std::size_t>(v) * m.width + u]);
-  const float pixels = params.silhouette_margin * diameter * std::max(k.fx, k.fy) / z;
+  // At the model's nearest depth, where a length spans the most pixels.
+  const float pixels = params.silhouette_margin * diameter * std::max(k.fx, k.fy) / m.nearest;
   const float bounded = std::isfinite(pixels) ? std::clamp(pixels, 0.f, 16.f) : 16.f;
   return std::clamp(static_cast<int>(std::ceil(bounded)), params.border_pixels, 16);
 }

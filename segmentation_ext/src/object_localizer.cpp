@@ -13,11 +13,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <set>
 #include <sstream>
 #include <stdexcept>
-#include <unordered_map>
-#include <unordered_set>
 
 namespace pcl {
 namespace icf {
@@ -123,6 +120,9 @@ void toSceneFrame(Localization& loc, const Eigen::Isometry3f& camera_to_scene) {
 
 namespace {
 
+/** The localizer works in the camera's frame (localizeObject moves the scene there). */
+const Eigen::Vector3f kCameraAtOrigin = Eigen::Vector3f::Zero();
+
 /** The thesis's gate on one cluster: points farther than gate_distance from the posed model.
  * A cluster of one object is counted whole; in a merged cluster only the points the model
  * claims: on its rendered silhouette and not in front of its surface. */
@@ -179,7 +179,7 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
       points.push_back(view.points[static_cast<std::size_t>(i)]);
   IcfParams icf = params.icf;
   icf.threads = icf_threads;
-  c.icf = estimatePose(model, points, view.camera, icf);
+  c.icf = estimatePose(model, points, kCameraAtOrigin, icf);
   if (c.icf.status == IcfStatus::TooFewPoints) {
     c.reason = "too few points (" + std::to_string(c.icf.points) + ")";
     return c;
@@ -211,7 +211,7 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
 /** The scene as a depth image in the camera's frame: an organized cloud's own pixel grid when
  * its points fit a pinhole (0.5 pixel), else the points projected through the given
  * intrinsics or a virtual camera at their spacing. The table's pixels are background. */
-DepthImage sceneDepthImage(const SceneView& view, const std::vector<bool>& is_table,
+DepthImage sceneDepthImage(const SceneView& view, const pcl::Indices& table,
                            const LocalizerParams& params) {
   PinholeIntrinsics k;
   double rms = std::numeric_limits<double>::infinity();
@@ -222,10 +222,6 @@ DepthImage sceneDepthImage(const SceneView& view, const std::vector<bool>& is_ta
   if (!params.intrinsics && !(rms < 0.5))
     k = DepthImage::virtualCamera(view.points, DepthImage::angularSpacing(view.points));
   DepthImage image(view.points, k);
-  std::vector<int> table;
-  for (std::size_t i = 0; i < is_table.size(); ++i)
-    if (is_table[i])
-      table.push_back(static_cast<int>(i));
   image.markBackground(view.points, table);
   return image;
 }
@@ -267,7 +263,6 @@ Localization localizeInView(const SceneView& view, TabletopSegmentation segmenta
   Localization out;
   out.segmentation_ms = segmentation_ms;
   std::vector<pcl::PointIndices> clusters;
-  std::vector<bool> is_table(view.points.size(), false);
   if (params.segment) {
     const TabletopStatus status = segmentation.status;
     if (status != TabletopStatus::Ok) {
@@ -282,8 +277,6 @@ Localization localizeInView(const SceneView& view, TabletopSegmentation segmenta
       return out;
     }
     clusters = segmentation.clusters;
-    for (const auto i : segmentation.plane.inliers)
-      is_table[static_cast<std::size_t>(i)] = true;
   } else {
     pcl::PointIndices all;
     for (std::size_t i = 0; i < view.points.size(); ++i)
@@ -300,7 +293,8 @@ Localization localizeInView(const SceneView& view, TabletopSegmentation segmenta
 
   // What the camera saw, the table marked as background (an object standing on it would
   // otherwise seem to carry on into the table at its base).
-  const DepthImage image = sceneDepthImage(view, is_table, params);
+  // (Without segmentation the plane has no inliers: nothing is background.)
+  const DepthImage image = sceneDepthImage(view, out.segmentation.plane.inliers, params);
 
   std::optional<ColourHistogram> expected;
   if (params.colour.expected)

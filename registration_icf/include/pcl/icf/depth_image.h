@@ -14,6 +14,8 @@
  * driver's convention); a point (x, y, z) falls on pixel (fx x / z + cx, fy y / z + cy), pixel
  * centres at integer coordinates. */
 
+#include <pcl/types.h>
+
 #include <Eigen/Core>
 
 #include <algorithm>

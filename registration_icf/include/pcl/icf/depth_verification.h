@@ -69,6 +69,7 @@ struct ModelDepth {
   std::vector<float> depth;   ///< DepthImage::kEmpty where the model does not cover the pixel
   std::vector<float> cosine;  ///< ray-normal cosine of the visible face
   std::size_t pixels = 0;     ///< covered pixels
+  float nearest = DepthImage::kEmpty;  ///< smallest depth of the covered pixels
   /** Bounding box of the covered pixels (empty when u_min > u_max). */
   int u_min = 0, v_min = 0, u_max = -1, v_max = -1;
 

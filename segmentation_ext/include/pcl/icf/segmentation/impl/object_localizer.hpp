@@ -17,12 +17,11 @@ namespace icf {
 namespace segmentation {
 namespace detail {
 
-/** What the non-template core needs of the scene. */
+/** What the non-template core needs of the scene, in the camera's frame. */
 struct SceneView {
   std::vector<Eigen::Vector3f> points;   ///< every point (NaN where the cloud has NaN)
   std::vector<Eigen::Vector3f> colours;  ///< [0, 1] RGB per point, empty without colour
-  Eigen::Vector3f camera = Eigen::Vector3f::Zero();
-  int width = 0, height = 0;  ///< an organized cloud's image size; 0 when unorganized
+  int width = 0, height = 0;             ///< an organized cloud's image size; 0 when unorganized
 };
 
 Localization localizeInView(const SceneView& view, TabletopSegmentation segmentation,

@@ -156,7 +156,8 @@ RefinementResult iterate(const Correspond& correspond, const Eigen::Vector3f& pi
     const bool small_step =
         v.squaredNorm() < params.transformation_epsilon && angle < params.rotation_epsilon;
     const bool flat_fitness =
-        std::abs(previous_fitness - fitness) <= params.euclidean_fitness_epsilon;
+        std::isfinite(previous_fitness) &&
+        std::abs(previous_fitness - fitness) < params.euclidean_fitness_epsilon * previous_fitness;
     previous_fitness = fitness;
     if (radius <= params.final_inlier_distance * 1.0001f && (small_step || flat_fitness)) {
       result.converged = true;

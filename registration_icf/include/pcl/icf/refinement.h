@@ -33,7 +33,8 @@ struct RefinementParams {
   double transformation_epsilon = 1e-10;
   /** ... and turns less than this (radians). */
   double rotation_epsilon = 1e-5;
-  /** Stop when the weighted mean squared residual changes by less than this (absolute). */
+  /** Stop when the weighted mean squared residual changes by less than this fraction of its
+   * previous value (relative, PCL's ICP convention; 0: never). */
   double euclidean_fitness_epsilon = 0.0;
   /** At most this many points per iteration (an evenly strided subset). 0: all. */
   std::size_t max_points = 0;

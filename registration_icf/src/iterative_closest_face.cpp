@@ -6,6 +6,8 @@
 // compile the class.
 #include <pcl/icf/impl/iterative_closest_face.hpp>
 
+#include <omp.h>
+
 #include <sstream>
 
 namespace pcl {
@@ -26,6 +28,20 @@ void validateRigidTransform(const Eigen::Matrix4d& m, const std::string& what) {
     fail("rotation block not orthonormal to 1e-4");
   if (R.determinant() < 0.0)
     fail("a reflection: determinant -1");
+}
+
+std::size_t countPointsNearSurface(const ClosestFaceQuery& index,
+                                   const std::vector<Eigen::Vector3f>& points,
+                                   const Eigen::Isometry3f& scene_to_model, float radius,
+                                   int threads) {
+  const int n = static_cast<int>(points.size());
+  long count = 0;
+#pragma omp parallel for reduction(+ : count) num_threads(threads > 0 ? threads : omp_get_num_procs())
+  for (int i = 0; i < n; ++i)
+    count +=
+        index.closestFace(scene_to_model * points[static_cast<std::size_t>(i)], radius).distance <=
+        radius;
+  return static_cast<std::size_t>(count);
 }
 
 }  // namespace icf

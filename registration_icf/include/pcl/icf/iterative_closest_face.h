@@ -22,6 +22,14 @@ namespace icf {
  * determinant +1, last row (0, 0, 0, 1). \throws std::invalid_argument naming \a what. */
 void validateRigidTransform(const Eigen::Matrix4d& m, const std::string& what);
 
+/** \brief How many of \a points lie within \a radius of the model's surface after
+ * \a scene_to_model (exact point-to-face distance, radius-bounded queries; OpenMP over
+ * \a threads, 0: all cores). */
+std::size_t countPointsNearSurface(const ClosestFaceQuery& index,
+                                   const std::vector<Eigen::Vector3f>& points,
+                                   const Eigen::Isometry3f& scene_to_model, float radius,
+                                   int threads);
+
 /** \brief The target search method of IterativeClosestFace: a pcl::search::KdTree over the
  * model's surface samples whose single-nearest-neighbour answer (k = 1) carries the exact
  * squared point-to-face distance to the model (doc/icf.md eq. 3) instead of the squared
@@ -238,9 +246,6 @@ class IterativeClosestFace : public Registration<PointSource, PointSource, Scala
  private:
   /** The source's finite points, in order. */
   std::vector<Eigen::Vector3f> finiteSourcePoints() const;
-  /** Points of \a points within \a radius of the model after \a scene_to_model. */
-  std::size_t countNearModel(const std::vector<Eigen::Vector3f>& points,
-                             const Eigen::Isometry3f& scene_to_model, float radius) const;
 
   icf::IcfModelParams model_params_;
   icf::IcfParams params_;

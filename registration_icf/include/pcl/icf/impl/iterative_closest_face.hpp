@@ -187,16 +187,6 @@ std::vector<Eigen::Vector3f> IterativeClosestFace<PointSource, Scalar>::finiteSo
 }
 
 template <typename PointSource, typename Scalar>
-std::size_t IterativeClosestFace<PointSource, Scalar>::countNearModel(
-    const std::vector<Eigen::Vector3f>& points, const Eigen::Isometry3f& scene_to_model,
-    float radius) const {
-  std::size_t n = 0;
-  for (const auto& p : points)
-    n += model_->index().closestFace(scene_to_model * p, radius).distance <= radius;
-  return n;
-}
-
-template <typename PointSource, typename Scalar>
 void IterativeClosestFace<PointSource, Scalar>::computeTransformation(PointCloudSource& output,
                                                                       const Matrix4& guess) {
   result_ = icf::IcfResult();
@@ -239,8 +229,8 @@ void IterativeClosestFace<PointSource, Scalar>::computeTransformation(PointCloud
     // The identity first (see the class comment) when the source already lies on the model.
     std::optional<icf::IcfResult> local;
     if (guess_policy_ == GuessPolicy::IdentityRefinedFirst &&
-        countNearModel(points, Eigen::Isometry3f::Identity(), radius) >=
-            params.acceptance.min_inliers) {
+        icf::countPointsNearSurface(model_->index(), points, Eigen::Isometry3f::Identity(), radius,
+                                    params.threads) >= params.acceptance.min_inliers) {
       local = icf::estimatePose(*model_, points, camera, params, &guess_iso, callback);
       local->method = "identity+icf";
     }
@@ -264,7 +254,8 @@ void IterativeClosestFace<PointSource, Scalar>::computeTransformation(PointCloud
   final_transformation_ = transformation_ = result_.scene_to_model.template cast<Scalar>();
   previous_transformation_ = final_transformation_;
   if (result_.status == icf::IcfStatus::Accepted || result_.status == icf::IcfStatus::Rejected)
-    correspondences_ = countNearModel(points, Eigen::Isometry3f(result_.scene_to_model), radius);
+    correspondences_ = icf::countPointsNearSurface(
+        model_->index(), points, Eigen::Isometry3f(result_.scene_to_model), radius, params.threads);
   converged_ = from_guess ? correspondences_ >= min_number_correspondences_ : result_.accepted();
   if constexpr (pcl::traits::has_normal_v<PointSource>)
     pcl::transformPointCloudWithNormals(*input_, output, final_transformation_);

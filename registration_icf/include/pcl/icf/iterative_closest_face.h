@@ -2,6 +2,14 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
+// pcl::IterativeClosestFace, a drop-in for pcl::IterativeClosestPoint with a mesh target
+// (doc/icf.md section 8). In short:
+// - align(out, guess), guess not the identity: refined from the guess, as ICP; hasConverged()
+//   is ICP's (>= 3 points within the correspondence distance at the end).
+// - align(out): the identity is refined first when the source already lies on the model and
+//   kept if accepted; otherwise a global search, no guess needed. hasConverged() then means the
+//   pose passed the acceptance test. setGuessPolicy(Always) is pure ICP.
+// - The acceptance verdict and its measures are in getResult() either way.
 #pragma once
 
 #include <pcl/PolygonMesh.h>

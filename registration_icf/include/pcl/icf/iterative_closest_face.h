@@ -227,8 +227,10 @@ class IterativeClosestFace : public Registration<PointSource, PointSource, Scala
   const icf::IcfResult& getResult() const { return result_; }
   /** \brief The model's pose in the scene: the inverse of getFinalTransformation(). */
   Eigen::Matrix4f getObjectPose() const { return result_.object_pose; }
-  /** \brief Source points within the correspondence distance of the mesh at the final pose. */
-  std::size_t getCorrespondenceCount() const { return correspondences_; }
+  /** \brief Points of the last align's source within its correspondence distance of the mesh
+   * at the final pose (0 when no pose was estimated). Counted at align after a guess (it
+   * decides hasConverged()), else on the first call. */
+  std::size_t getCorrespondenceCount() const;
 
  protected:
   void computeTransformation(PointCloudSource& output, const Matrix4& guess) override;
@@ -252,8 +254,8 @@ class IterativeClosestFace : public Registration<PointSource, PointSource, Scala
   using Base::update_visualizer_;
 
  private:
-  /** The source's finite points, in order. */
-  std::vector<Eigen::Vector3f> finiteSourcePoints() const;
+  /** The finite points of \a cloud (at indices_ when it is the current source), in order. */
+  std::vector<Eigen::Vector3f> finitePoints(const PointCloudSource& cloud) const;
 
   icf::IcfModelParams model_params_;
   icf::IcfParams params_;
@@ -261,7 +263,9 @@ class IterativeClosestFace : public Registration<PointSource, PointSource, Scala
   icf::IcfResult result_;
   GuessPolicy guess_policy_ = GuessPolicy::IdentityRefinedFirst;
   std::optional<Eigen::Isometry3f> camera_pose_;
-  std::size_t correspondences_ = 0;
+  mutable std::optional<std::size_t> correspondences_;
+  typename PointCloudSource::ConstPtr aligned_source_;  ///< the last align's source
+  float aligned_radius_ = 0.f;                          ///< and its correspondence distance
 };
 
 }  // namespace pcl

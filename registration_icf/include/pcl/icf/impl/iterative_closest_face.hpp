@@ -175,22 +175,46 @@ double IterativeClosestFace<PointSource, Scalar>::getFitnessScore(double max_ran
 }
 
 template <typename PointSource, typename Scalar>
-std::vector<Eigen::Vector3f> IterativeClosestFace<PointSource, Scalar>::finiteSourcePoints() const {
+std::vector<Eigen::Vector3f> IterativeClosestFace<PointSource, Scalar>::finitePoints(
+    const PointCloudSource& cloud) const {
   std::vector<Eigen::Vector3f> points;
-  points.reserve(indices_->size());
-  for (const auto i : *indices_) {
-    const auto& p = (*input_)[i];
+  auto add = [&points](const PointSource& p) {
     if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
       points.emplace_back(p.x, p.y, p.z);
+  };
+  if (input_ && &cloud == input_.get() && indices_) {
+    points.reserve(indices_->size());
+    for (const auto i : *indices_)
+      add(cloud[i]);
+  } else {
+    points.reserve(cloud.size());
+    for (const auto& p : cloud)
+      add(p);
   }
   return points;
+}
+
+template <typename PointSource, typename Scalar>
+std::size_t IterativeClosestFace<PointSource, Scalar>::getCorrespondenceCount() const {
+  if (!correspondences_) {
+    const bool posed =
+        result_.status == icf::IcfStatus::Accepted || result_.status == icf::IcfStatus::Rejected;
+    correspondences_ =
+        posed && model_ && aligned_source_
+            ? icf::countPointsNearSurface(model_->index(), finitePoints(*aligned_source_),
+                                          Eigen::Isometry3f(result_.scene_to_model),
+                                          aligned_radius_, params_.threads)
+            : 0;
+  }
+  return *correspondences_;
 }
 
 template <typename PointSource, typename Scalar>
 void IterativeClosestFace<PointSource, Scalar>::computeTransformation(PointCloudSource& output,
                                                                       const Matrix4& guess) {
   result_ = icf::IcfResult();
-  correspondences_ = 0;
+  correspondences_.reset();
+  aligned_source_ = input_;
   icf::validateRigidTransform(guess.template cast<double>(),
                               "IterativeClosestFace::align: the guess");
   if (!(corr_dist_threshold_ > 0.0)) {
@@ -206,7 +230,7 @@ void IterativeClosestFace<PointSource, Scalar>::computeTransformation(PointCloud
     result_.status = icf::IcfStatus::NoModel;
     return;  // converged_ false, the final transformation the identity: PCL's initial state
   }
-  const std::vector<Eigen::Vector3f> points = finiteSourcePoints();
+  const std::vector<Eigen::Vector3f> points = finitePoints(*input_);
   const Eigen::Vector3f camera = getCameraPose().translation();
 
   icf::IterationCallback callback;
@@ -222,7 +246,7 @@ void IterativeClosestFace<PointSource, Scalar>::computeTransformation(PointCloud
   const bool identity = guess.template cast<double>().isIdentity(1e-12);
   const bool from_guess =
       guess_policy_ == GuessPolicy::Always || (guess_policy_ != GuessPolicy::Never && !identity);
-  const float radius = params.refinement.initial_inlier_distance;
+  const float radius = aligned_radius_ = params.refinement.initial_inlier_distance;
   if (from_guess) {
     result_ = icf::estimatePose(*model_, points, camera, params, &guess_iso, callback);
   } else {
@@ -253,10 +277,8 @@ void IterativeClosestFace<PointSource, Scalar>::computeTransformation(PointCloud
   nr_iterations_ = result_.refinement_iterations;
   final_transformation_ = transformation_ = result_.scene_to_model.template cast<Scalar>();
   previous_transformation_ = final_transformation_;
-  if (result_.status == icf::IcfStatus::Accepted || result_.status == icf::IcfStatus::Rejected)
-    correspondences_ = icf::countPointsNearSurface(
-        model_->index(), points, Eigen::Isometry3f(result_.scene_to_model), radius, params.threads);
-  converged_ = from_guess ? correspondences_ >= min_number_correspondences_ : result_.accepted();
+  converged_ =
+      from_guess ? getCorrespondenceCount() >= min_number_correspondences_ : result_.accepted();
   if constexpr (pcl::traits::has_normal_v<PointSource>)
     pcl::transformPointCloudWithNormals(*input_, output, final_transformation_);
   else

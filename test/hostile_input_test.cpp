@@ -475,8 +475,11 @@ TEST_F(HostileInput, FlatCluster) {
   params.segment = false;
   const auto found = pcl::icf::segmentation::localizeObject(wall, boxModel(), params);
   EXPECT_EQ(found.status, LocalizationStatus::NotFound) << found.message;
-  ASSERT_EQ(found.clusters.size(), 1u);
-  EXPECT_FALSE(found.clusters[0].reason.empty());
+  // The cluster, and what its best pose left unexplained (searched again when nothing was
+  // accepted): each rejected with its reason.
+  ASSERT_GE(found.clusters.size(), 1u);
+  for (const auto& c : found.clusters)
+    EXPECT_FALSE(c.reason.empty());
 }
 
 TEST_F(HostileInput, AMeshOfOneFace) {

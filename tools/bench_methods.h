@@ -18,6 +18,7 @@
 #include <Eigen/Geometry>
 
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -59,6 +60,10 @@ struct MethodRun {
   double ms = 0.0;
   bool converged = false;  ///< the method's own verdict (ICF: accepted; SAC: found; ICP: PCL's)
   std::string detail;
+  /** icf-scene: the top hypothesis's verification confidence and terms (NaN / empty for the
+   * other methods and when no hypothesis was verified). */
+  double confidence = std::numeric_limits<double>::quiet_NaN();
+  std::string verification;
 };
 
 /** pcl::IterativeClosestFace with \a params (strategy, fallback, threads). */

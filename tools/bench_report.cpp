@@ -131,7 +131,7 @@ Summary summarize(const std::vector<const Row*>& rows) {
 void writeCasesCsv(const fs::path& file, const std::vector<Row>& rows) {
   std::ofstream csv(file);
   csv << "case,group,method,points,t_err_mm,r_err_deg,r_err_nosym_deg,adds_mm,time_ms,"
-         "success,converged,absent,false_pose,detail,pose_row_major\n";
+         "success,converged,absent,false_pose,detail,pose_row_major,confidence,verification\n";
   csv.precision(6);
   for (const Row& r : rows) {
     csv << csvEscape(r.case_name) << "," << csvEscape(r.group) << "," << r.method << "," << r.points
@@ -148,7 +148,10 @@ void writeCasesCsv(const fs::path& file, const std::vector<Row>& rows) {
     for (int i = 0; i < 12; ++i)
       csv << (i ? " " : "") << r.object_pose(i / 4, i % 4);
     csv.precision(6);
-    csv << "\n";
+    csv << ",";
+    if (std::isfinite(r.confidence))
+      csv << r.confidence;
+    csv << "," << csvEscape(r.verification) << "\n";
   }
 }
 

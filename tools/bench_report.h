@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -30,7 +31,9 @@ struct Row {
    * method is right when it says not found (converged false), else the row is a false pose. */
   bool absent = false, false_pose = false;
   std::string detail;
-  Eigen::Matrix4f object_pose = Eigen::Matrix4f::Identity();  ///< the estimate, model -> scene
+  double confidence = std::numeric_limits<double>::quiet_NaN();  ///< icf-scene's, see MethodRun
+  std::string verification;                                      ///< icf-scene's terms
+  Eigen::Matrix4f object_pose = Eigen::Matrix4f::Identity();     ///< the estimate, model -> scene
 };
 
 /** A group's (or all groups') statistics for one method. Success and errors are over the

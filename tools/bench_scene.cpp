@@ -19,6 +19,34 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
+/** The accepted cluster, else the best-scoring one (nullptr when none was judged). */
+const seg::ClusterLocalization* topCluster(const seg::Localization& loc) {
+  if (loc.best >= 0)
+    return &loc.clusters[static_cast<std::size_t>(loc.best)];
+  const seg::ClusterLocalization* top = nullptr;
+  for (const auto& c : loc.clusters)
+    if (!top || c.score > top->score)
+      top = &c;
+  return top;
+}
+
+/** The verification's terms of \a c, "supported=0.91 seen_through=0.02 ..." (for the CSV). */
+std::string verificationTerms(const seg::ClusterLocalization& c) {
+  const auto& e = c.verification;
+  char text[512];
+  std::snprintf(text, sizeof(text),
+                "pixels=%zu supported=%.4f seen_through=%.4f occluded=%.4f below_support=%.4f "
+                "isolated=%.4f missing=%.4f on_background=%.4f visible_support=%.4f "
+                "continuation=%.4f band=%zu occluder_continuation=%.4f residual=%.3f "
+                "turned=%d alternatives=%zu colour=%.4f",
+                e.model_pixels, e.supported, e.seen_through, e.occluded, e.below_support,
+                e.isolated_conflicts, e.missing, e.on_background, e.visible_support,
+                e.silhouette_continuation, e.silhouette_pixels, e.occluder_continuation, e.residual,
+                c.turned ? 1 : 0, c.alternatives.size(),
+                c.colour_similarity ? *c.colour_similarity : -1.0);
+  return text;
+}
+
 /** "Found: cluster 3 of 19, score 0.71" or "NotFound: 19 clusters; best score 0.42: why". */
 std::string describe(const seg::Localization& loc) {
   std::string text = std::string(seg::toString(loc.status)) + ": ";
@@ -29,10 +57,7 @@ std::string describe(const seg::Localization& loc) {
     std::snprintf(score, sizeof(score), "%.2f", best.score);
     return text + "cluster " + std::to_string(loc.best) + " of " + n + ", score " + score;
   }
-  const seg::ClusterLocalization* top = nullptr;
-  for (const auto& c : loc.clusters)
-    if (!top || c.score > top->score)
-      top = &c;
+  const seg::ClusterLocalization* top = topCluster(loc);
   if (!top)
     return text + (loc.message.empty() ? "no cluster" : loc.message);
   std::snprintf(score, sizeof(score), "%.2f", top->score);
@@ -50,6 +75,10 @@ MethodRun localize(const pcl::PointCloud<PointT>& scene, const PreparedModel& mo
   if (run.converged)
     run.object_pose = loc.clusters[static_cast<std::size_t>(loc.best)].icf.object_pose;
   run.detail = describe(loc);
+  if (const seg::ClusterLocalization* top = topCluster(loc)) {
+    run.confidence = top->verification.confidence;
+    run.verification = verificationTerms(*top);
+  }
   return run;
 }
 

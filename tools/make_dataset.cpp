@@ -20,6 +20,10 @@
 //   A-Amicelly (YellowRoundSalt, a cylinder), A-EisKaffe (YellowRoundSalt), A-YellowRoundSalt
 //   (EisKaffe). The scene file is the whole organized frame with colour, table included; the
 //   manifest line says truth=none cluster=all. --models filters by target model.
+// --kind present: the absent kind's scenes with the target put back: the target, its decoy
+//   (the similar shape, same colour) and the neighbours, the whole organized frame. Groups
+//   P-TallCylinder, P-Box5, P-Amicelly, P-EisKaffe, P-YellowRoundSalt; the manifest line has
+//   the target's truth and cluster=all (for icf-scene: find the right one of two look-alikes).
 // Noise everywhere: 1.5 mm at 1 m growing with depth^2, 5% outliers within +-5 cm along the
 // ray (test::ScanNoise defaults). Case k of a group draws from std::mt19937_64 seeded with
 // seed + 1000 * group + k, so adding cases never changes the earlier ones.
@@ -68,7 +72,8 @@ struct Options {
 
 int usage(const char* program) {
   std::fprintf(stderr,
-               "Usage: %s --out DIR [--manifest FILE] [--kind views|tabletop|absent] [--cases N]\n"
+               "Usage: %s --out DIR [--manifest FILE] [--kind views|tabletop|absent|present]\n"
+               "          [--cases N]\n"
                "          [--models A,B,...] [--seed S]\n"
                "Writes a seeded synthetic suite of the thesis's models and its manifest\n"
                "(format: doc/DATASETS.md). Defaults: views, 30 cases per group, every model\n"
@@ -105,8 +110,10 @@ bool parseOptions(int argc, char** argv, Options& opt) {
   }
   if (opt.out.empty())
     throw std::invalid_argument("--out is required");
-  if (opt.kind != "views" && opt.kind != "tabletop" && opt.kind != "absent")
-    throw std::invalid_argument("--kind must be views, tabletop or absent, not " + opt.kind);
+  if (opt.kind != "views" && opt.kind != "tabletop" && opt.kind != "absent" &&
+      opt.kind != "present")
+    throw std::invalid_argument("--kind must be views, tabletop, absent or present, not " +
+                                opt.kind);
   if (opt.cases < 1 || opt.cases > 100000)
     throw std::invalid_argument("--cases must lie in [1, 100000]");
   if (opt.manifest.empty())
@@ -117,8 +124,9 @@ bool parseOptions(int argc, char** argv, Options& opt) {
 /** The manifest's symmetry spec of a model (doc/DATASETS.md), from its name. */
 std::string symmetrySpec(const std::string& name) {
   static const std::map<std::string, std::string> specs = {
-      {"Box5", "box:0.14,0.09,0.05"}, {"YellowRoundSalt", "cylinder"}, {"EisKaffe", "cylinder"},
-      {"Amicelly", "prism:6"},        {"Cup", "cylinder:noflip"},      {"Statue", "none"}};
+      {"Box5", "box:0.14,0.09,0.05"}, {"YellowRoundSalt", "cylinder"},  {"EisKaffe", "cylinder"},
+      {"Amicelly", "prism:6"},        {"Cup", "cylinder:noflip"},       {"Statue", "none"},
+      {"TallCylinder", "cylinder"},   {"LargeBox", "box:0.2,0.12,0.08"}};
   const auto it = specs.find(name);
   if (it == specs.end())
     throw std::invalid_argument("no symmetry spec for model " + name);
@@ -182,11 +190,18 @@ std::vector<Group> allGroups(const std::string& kind) {
             {"S5-Amicelly", "Amicelly", {"Amicelly", "EisKaffe"}},
             {"S5-EisKaffe", "EisKaffe", {"EisKaffe", "Amicelly"}}};
   // absent: the decoy first (the redraw rule watches it), then the neighbours.
-  return {{"A-TallCylinder", "TallCylinder", {"WideCylinder", "Box5", "Cup"}},
-          {"A-Box5", "Box5", {"OtherBox", "Cup", "Statue"}},
-          {"A-Amicelly", "Amicelly", {"YellowRoundSalt", "Statue"}},
-          {"A-EisKaffe", "EisKaffe", {"YellowRoundSalt", "Box5", "Statue"}},
-          {"A-YellowRoundSalt", "YellowRoundSalt", {"EisKaffe", "Box5", "Cup"}}};
+  std::vector<Group> groups = {
+      {"A-TallCylinder", "TallCylinder", {"WideCylinder", "Box5", "Cup"}},
+      {"A-Box5", "Box5", {"OtherBox", "Cup", "Statue"}},
+      {"A-Amicelly", "Amicelly", {"YellowRoundSalt", "Statue"}},
+      {"A-EisKaffe", "EisKaffe", {"YellowRoundSalt", "Box5", "Statue"}},
+      {"A-YellowRoundSalt", "YellowRoundSalt", {"EisKaffe", "Box5", "Cup"}}};
+  if (kind == "present")  // the target first, then the absent kind's decoy and neighbours
+    for (Group& g : groups) {
+      g.name[0] = 'P';
+      g.objects.insert(g.objects.begin(), g.target);
+    }
+  return groups;
 }
 
 /** The kind's groups whose target --models names (all without --models; views: in its
@@ -210,7 +225,7 @@ struct Case {
   Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
   bool absent = false;
   pcl::PointCloud<pcl::PointXYZ>::Ptr cluster;   ///< views, tabletop
-  pcl::PointCloud<pcl::PointXYZRGB>::Ptr scene;  ///< absent: the whole frame
+  pcl::PointCloud<pcl::PointXYZRGB>::Ptr scene;  ///< absent, present: the whole frame
 };
 
 /** One view of the model alone at a random pose; redrawn while fewer than 200 points show. */
@@ -289,12 +304,24 @@ Case makeAbsent(const std::string& target, const std::vector<t::SyntheticModel>&
   return c;
 }
 
+/** The target (objects[0]) with its look-alike and the neighbours, the whole frame. */
+Case makePresent(const std::vector<t::SyntheticModel>& objects, std::uint64_t seed) {
+  const t::TabletopScene scene = drawTabletop(objects, seed);
+  Case c;
+  c.model = objects[0].name;
+  c.truth = scene.poses[0];
+  c.scene = scene.scan.cloud;
+  return c;
+}
+
 Case makeCase(const Options& opt, const Group& g, const std::vector<t::SyntheticModel>& objects,
               std::uint64_t seed) {
   if (opt.kind == "views")
     return makeView(objects[0], seed);
   if (opt.kind == "tabletop")
     return makeTabletop(objects, seed);
+  if (opt.kind == "present")
+    return makePresent(objects, seed);
   return makeAbsent(g.target, objects, seed);
 }
 
@@ -312,6 +339,11 @@ std::string manifestHeader(const Options& opt) {
         "# A pose claimed here is a false pose. For the scene-level method:\n"
         "#   pcl_icf_bench --methods icf-scene THIS_MANIFEST\n"
         "# (cluster=all is the whole frame: the cluster methods are not run on these cases).\n";
+  if (opt.kind == "present")
+    text +=
+        "# TARGET PRESENT beside a similar shape of its colour: each scene is a whole organized\n"
+        "# frame (x y z rgb, table included). For the scene-level method:\n"
+        "#   pcl_icf_bench --methods icf-scene THIS_MANIFEST\n";
   return text;
 }
 
@@ -319,7 +351,7 @@ std::string manifestHeader(const Options& opt) {
 std::string writeCase(const Options& opt, const Group& g, const Case& c, const std::string& name,
                       const fs::path& model_path, const fs::path& base) {
   const fs::path scene_path = opt.out / opt.kind / (name + ".pcd");
-  const int status = c.absent
+  const int status = c.scene
                          ? pcl::io::savePCDFileBinaryCompressed(scene_path.string(), *c.scene)
                          : pcl::io::savePCDFileBinaryCompressed(scene_path.string(), *c.cluster);
   if (status != 0)
@@ -362,7 +394,7 @@ std::size_t writeSuite(const Options& opt, const std::vector<Group>& groups) {
       if (tty)
         std::fprintf(stderr, "\r[%zu/%zu] %s (%zu points)   ", written,
                      groups.size() * static_cast<std::size_t>(opt.cases), name,
-                     c.absent ? c.scene->size() : c.cluster->size());
+                     c.scene ? c.scene->size() : c.cluster->size());
     }
   }
   if (tty)

@@ -66,6 +66,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -91,6 +92,9 @@ struct Options {
   std::vector<std::string> methods = kClusterMethods, manifests;
   int thesis_cases = 5, limit = -1, threads = 0, ia_iterations = 1000, repeat = 1;
   bool plots = true;
+  /** icf-scene's acceptance threshold (the localizer's default when unset); 0 makes every case
+   * report its best hypothesis with its confidence, for calibration curves. */
+  std::optional<double> scene_min_confidence;
   pcl::icf::SacParams sac;
   std::string command_line = "pcl_icf_bench";
 };
@@ -99,7 +103,8 @@ int usage(const char* program) {
   std::fprintf(stderr,
                "Usage: %s [--out DIR] [--plots DIR] [--name NAME] [--methods A,B]\n"
                "          [--thesis-cases N] [--limit N] [--threads N] [--ia-iterations N]\n"
-               "          [--sac K=V,...] [--repeat N] [--no-plots] MANIFEST...\n"
+               "          [--sac K=V,...] [--repeat N] [--no-plots]\n"
+               "          [--scene-min-confidence C] MANIFEST...\n"
                "Methods: icf-fast icf-thesis icf-fast+sac icf-sac icp-p2p icp-p2plane "
                "sacia+icp prerej+icp (default: these), icf-scene (whole scene)\n",
                program);
@@ -174,6 +179,8 @@ bool parseOptions(int argc, char** argv, Options& o) {
         applySacOverride(o.sac, kv);
     } else if (arg == "--repeat")
       o.repeat = std::stoi(value());
+    else if (arg == "--scene-min-confidence")
+      o.scene_min_confidence = std::stod(value());
     else if (arg == "--no-plots")
       o.plots = false;
     else if (arg == "-h" || arg == "--help")
@@ -226,6 +233,8 @@ pcl::icf::segmentation::LocalizerParams sceneParams(const Options& o) {
   p.threads = o.threads;
   p.icf.threads = o.threads;
   p.icf.sac = o.sac;
+  if (o.scene_min_confidence)
+    p.min_confidence = *o.scene_min_confidence;
   return p;
 }
 
@@ -286,6 +295,8 @@ Row measure(const std::string& m, const CaseSpec& c, std::size_t points, const M
   row.ms = run.ms;
   row.converged = run.converged;
   row.detail = run.detail;
+  row.confidence = run.confidence;
+  row.verification = run.verification;
   row.object_pose = run.object_pose;
   if (c.absent) {
     row.absent = true;

@@ -252,6 +252,8 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
       p.thesis_gate = true;
     } else if (a == "--min-confidence")
       p.min_confidence = parseFraction(a, args.value(a));
+    else if (a == "--max-instances")
+      p.max_instances = static_cast<int>(parseInteger(a, args.value(a), 1, 1000));
     else if (a == "--json")
       o.json = args.value(a);
     else if (a == "--output")
@@ -378,6 +380,9 @@ std::string usageText(const std::string& program) {
     << "    --no-gate                = turn the thesis's gate off\n"
     << "    --min-confidence C       = accept a pose whose verification confidence reaches C\n"
     << "                               (default: " << p.min_confidence << ")\n"
+    << "    --max-instances N        = report up to N instances of the object, best first,\n"
+    << "                               each scene point in one at most (default: "
+    << p.max_instances << ")\n"
     << "  Output:\n"
     << "    --json FILE              = the result as JSON (poses in the scene's units)\n"
     << "    --output FILE.ply        = the model moved to its pose, in the scene's units\n"

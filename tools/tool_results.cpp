@@ -17,12 +17,37 @@ namespace seg = pcl::icf::segmentation;
 
 namespace {
 
-json clusterJson(const seg::ClusterLocalization& c, int index, const Scene& scene) {
-  const Eigen::Matrix4d pose = scenePose(c, scene.metres_per_unit);
-  const Eigen::Quaterniond q = quaternionOf(pose);
+/** A 4x4 pose as rows. */
+json poseRows(const Eigen::Matrix4d& pose) {
   json rows = json::array();
   for (int r = 0; r < 4; ++r)
     rows.push_back({pose(r, 0), pose(r, 1), pose(r, 2), pose(r, 3)});
+  return rows;
+}
+
+/** Model -> scene in the scene's units. */
+Eigen::Matrix4d inSceneUnits(const Eigen::Isometry3f& pose, double metres_per_unit) {
+  Eigen::Matrix4d m = pose.matrix().cast<double>();
+  m.block<3, 1>(0, 3) /= metres_per_unit;
+  return m;
+}
+
+json alternativesJson(const seg::ClusterLocalization& c, const Scene& scene) {
+  json list = json::array();
+  for (const auto& alt : c.alternatives)
+    list.push_back({{"pose", poseRows(inSceneUnits(alt.object_pose, scene.metres_per_unit))},
+                    {"confidence", alt.verification.confidence},
+                    {"residual", alt.verification.residual},
+                    {"turn_axis_model", {alt.axis.x(), alt.axis.y(), alt.axis.z()}},
+                    {"turn_deg", alt.turn_deg},
+                    {"origin_offset", alt.translation_offset / scene.metres_per_unit}});
+  return list;
+}
+
+json clusterJson(const seg::ClusterLocalization& c, int index, const Scene& scene) {
+  const Eigen::Matrix4d pose = scenePose(c, scene.metres_per_unit);
+  const Eigen::Quaterniond q = quaternionOf(pose);
+  const json rows = poseRows(pose);
   json j;
   j["cluster"] = index;
   j["points"] = c.indices.indices.size();
@@ -40,15 +65,22 @@ json clusterJson(const seg::ClusterLocalization& c, int index, const Scene& scen
   j["reason"] = c.reason;
   j["gate_far_points"] = c.gate_far_points;
   j["confidence"] = c.verification.confidence;
+  j["ambiguous"] = !c.alternatives.empty();
+  j["alternatives"] = alternativesJson(c, scene);
+  j["turned"] = c.turned;
   j["verification"] = {{"judged_pixels", c.verification.model_pixels},
                        {"supported", c.verification.supported},
                        {"seen_through", c.verification.seen_through},
                        {"occluded", c.verification.occluded},
+                       {"below_support", c.verification.below_support},
+                       {"isolated_conflicts", c.verification.isolated_conflicts},
                        {"missing", c.verification.missing},
                        {"on_background", c.verification.on_background},
                        {"visible_support", c.verification.visible_support},
+                       {"residual", c.verification.residual},
                        {"silhouette_continuation", c.verification.silhouette_continuation},
-                       {"silhouette_pixels", c.verification.silhouette_pixels}};
+                       {"silhouette_pixels", c.verification.silhouette_pixels},
+                       {"occluder_continuation", c.verification.occluder_continuation}};
   j["colour_similarity"] = c.colour_similarity ? json(*c.colour_similarity) : json(nullptr);
   j["time_ms"] = c.icf.time_ms;
   return j;
@@ -117,6 +149,10 @@ json resultJson(const Scene& scene, const Model& model, const ToolOptions& optio
     clusters.push_back(clusterJson(run.loc.clusters[k], static_cast<int>(k), scene));
   if (run.loc.best >= 0)
     j["best"] = clusters[static_cast<std::size_t>(run.loc.best)];
+  json instances = json::array();
+  for (int k : run.loc.instances)
+    instances.push_back(clusters[static_cast<std::size_t>(k)]);
+  j["instances"] = instances;
   j["clusters"] = clusters;
   j["scene_info"] = {{"format", scene.info.format},
                      {"width", scene.input->width},
@@ -145,6 +181,7 @@ json errorJson(const std::string& scene, const std::string& model, const std::st
   j["message"] = error;
   j["exit_code"] = 2;
   j["best"] = nullptr;
+  j["instances"] = json::array();
   j["clusters"] = json::array();
   return j;
 }
@@ -201,6 +238,20 @@ void printReport(const Scene& scene, const Model& model, const Run& run, bool se
                   pose(r, 3));
     std::printf("quaternion wxyz  %.6f %.6f %.6f %.6f\n", q.w(), q.x(), q.y(), q.z());
     std::printf("translation      %.6f %.6f %.6f %s\n", pose(0, 3), pose(1, 3), pose(2, 3), units);
+    for (const auto& alt : c.alternatives)
+      std::printf(
+          "ambiguous: turned %.0f deg about (%.2f, %.2f, %.2f) in the model's frame, the "
+          "origin %s %s away, explains the depth as well (confidence %.3f)\n",
+          alt.turn_deg, alt.axis.x(), alt.axis.y(), alt.axis.z(),
+          fixed(alt.translation_offset / scene.metres_per_unit, 4).c_str(), units,
+          alt.verification.confidence);
+    for (std::size_t n = 1; n < loc.instances.size(); ++n) {
+      const auto& other = loc.clusters[static_cast<std::size_t>(loc.instances[n])];
+      const Eigen::Matrix4d p = scenePose(other, scene.metres_per_unit);
+      std::printf("instance %zu  cluster %d, confidence %.3f, at %.6f %.6f %.6f %s\n", n + 1,
+                  loc.instances[n], other.verification.confidence, p(0, 3), p(1, 3), p(2, 3),
+                  units);
+    }
   }
   std::printf("time   %.0f ms (segmentation %.0f, registration %.0f)\n", run.ms,
               loc.segmentation_ms, loc.registration_ms);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 namespace pcl {
 namespace icf {
@@ -109,6 +110,20 @@ void DepthImage::markBackground(const std::vector<Eigen::Vector3f>& points,
     int u = 0, v = 0;
     if (pixelOf(p, u, v) && depth(u, v) == p.z())
       background_[static_cast<std::size_t>(v) * k_.width + u] = 1;
+  }
+}
+
+void DepthImage::setColours(const std::vector<Eigen::Vector3f>& points,
+                            const std::vector<Eigen::Vector3f>& colours) {
+  if (points.size() != colours.size())
+    throw std::invalid_argument("[pcl::icf::DepthImage::setColours] " +
+                                std::to_string(colours.size()) + " colours for " +
+                                std::to_string(points.size()) + " points");
+  colour_.assign(depth_.size(), Eigen::Vector3f::Zero());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    int u = 0, v = 0;
+    if (pixelOf(points[i], u, v) && depth(u, v) == points[i].z())
+      colour_[static_cast<std::size_t>(v) * k_.width + u] = colours[i];
   }
 }
 

@@ -11,8 +11,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 namespace pcl {
 namespace icf {
@@ -35,10 +37,14 @@ void DepthVerificationParams::validate() const {
     fail("border_pixels", border_pixels, "must lie in [0, 16]");
   if (!(silhouette_margin >= 0.f && silhouette_margin < 0.5f))
     fail("silhouette_margin", silhouette_margin, "must lie in [0, 0.5)");
+  if (!(max_colour_step > 0.f && max_colour_step <= 2.f))
+    fail("max_colour_step", max_colour_step, "must lie in (0, 2]");
   if (!(min_view_cosine >= 0.f && min_view_cosine < 1.f))
     fail("min_view_cosine", min_view_cosine, "must lie in [0, 1)");
-  if (!(max_seen_through > 0.0 && max_seen_through <= 1.0))
-    fail("max_seen_through", max_seen_through, "must lie in (0, 1]");
+  if (!(max_conflict > 0.0 && max_conflict <= 1.0))
+    fail("max_conflict", max_conflict, "must lie in (0, 1]");
+  if (!(max_continuation > 0.0 && max_continuation <= 1.0))
+    fail("max_continuation", max_continuation, "must lie in (0, 1]");
   if (!(full_evidence > 0.0 && full_evidence <= 1.0))
     fail("full_evidence", full_evidence, "must lie in (0, 1]");
 }
@@ -114,47 +120,228 @@ bool awayFromSilhouette(const ModelDepth& m, int u, int v, int r) {
   return true;
 }
 
-/** Nearest model depth among the pixels within \a r of (u, v); kEmpty when none is covered. */
-float nearbyModelDepth(const ModelDepth& m, int u, int v, int r) {
-  float z = DepthImage::kEmpty;
-  for (int dv = -r; dv <= r; ++dv)
-    for (int du = -r; du <= r; ++du)
-      if (m.covers(u + du, v + dv))
-        z = std::min(z, m.depth[static_cast<std::size_t>(v + dv) * m.width + (u + du)]);
-  return z;
+/** The pixels of the model's footprint widened by a band, as a small grid: each pixel's class
+ * and whether the scene's surface reaches it from the supported pixels. */
+struct Footprint {
+  enum Class : std::uint8_t { kOutside, kCovered, kNearBand, kBand };
+  int u0 = 0, v0 = 0, w = 0, h = 0;
+  std::vector<std::uint8_t> cls;      ///< Class
+  std::vector<std::uint8_t> reached;  ///< 1: reached by the surface from a supported pixel
+  std::vector<std::size_t> nearest;   ///< index of the (approximately) nearest covered pixel
+  std::size_t at(int u, int v) const { return static_cast<std::size_t>(v - v0) * w + (u - u0); }
+  int u(std::size_t i) const { return u0 + static_cast<int>(i % static_cast<std::size_t>(w)); }
+  int v(std::size_t i) const { return v0 + static_cast<int>(i / static_cast<std::size_t>(w)); }
+  bool inside(int u, int v) const { return u >= u0 && v >= v0 && u < u0 + w && v < v0 + h; }
+};
+
+/** The model's footprint and the band of \a ring pixels around it; band pixels within \a
+ * near of the silhouette (the sensor's smeared edge) are kNearBand, the rest kBand. */
+Footprint footprintWithBand(const ModelDepth& m, int ring, int near) {
+  Footprint f;
+  f.u0 = std::max(0, m.u_min - ring);
+  f.v0 = std::max(0, m.v_min - ring);
+  f.w = std::min(m.width - 1, m.u_max + ring) - f.u0 + 1;
+  f.h = std::min(m.height - 1, m.v_max + ring) - f.v0 + 1;
+  // Chessboard distance to the nearest covered pixel, and that pixel: two passes over the
+  // grid (Rosenfeld and Pfaltz's sequential distance transform, carrying the source).
+  const int far = f.w + f.h;
+  std::vector<int> dist(static_cast<std::size_t>(f.w) * f.h, far);
+  f.nearest.assign(dist.size(), 0);
+  for (int v = f.v0; v < f.v0 + f.h; ++v)
+    for (int u = f.u0; u < f.u0 + f.w; ++u)
+      if (m.covers(u, v)) {
+        dist[f.at(u, v)] = 0;
+        f.nearest[f.at(u, v)] = f.at(u, v);
+      }
+  auto take = [&](std::size_t i, int nu, int nv) {
+    if (!f.inside(nu, nv))
+      return;
+    const std::size_t j = f.at(nu, nv);
+    if (dist[j] + 1 < dist[i]) {
+      dist[i] = dist[j] + 1;
+      f.nearest[i] = f.nearest[j];
+    }
+  };
+  for (int v = f.v0; v < f.v0 + f.h; ++v)
+    for (int u = f.u0; u < f.u0 + f.w; ++u)
+      for (const auto& [du, dv] : {std::pair{-1, -1}, {0, -1}, {1, -1}, {-1, 0}})
+        take(f.at(u, v), u + du, v + dv);
+  for (int v = f.v0 + f.h - 1; v >= f.v0; --v)
+    for (int u = f.u0 + f.w - 1; u >= f.u0; --u)
+      for (const auto& [du, dv] : {std::pair{1, 1}, {0, 1}, {-1, 1}, {1, 0}})
+        take(f.at(u, v), u + du, v + dv);
+  f.cls.resize(dist.size());
+  for (std::size_t i = 0; i < dist.size(); ++i)
+    f.cls[i] = dist[i] == 0      ? Footprint::kCovered
+               : dist[i] <= near ? Footprint::kNearBand
+               : dist[i] <= ring ? Footprint::kBand
+                                 : Footprint::kOutside;
+  f.reached.assign(f.cls.size(), 0);
+  return f;
 }
 
-/** Share of the judged ring pixels (r + 1 outside the silhouette) where the scene surface
- * carries on at the model's depth. */
-double silhouetteContinuation(const ModelDepth& m, const DepthImage& image, float diameter,
-                              const DepthVerificationParams& params, int margin,
-                              std::size_t& judged) {
-  const int ring = margin + 1;
-  std::size_t continuing = 0;
-  judged = 0;
-  for (int v = std::max(0, m.v_min - ring); v <= std::min(m.height - 1, m.v_max + ring); ++v)
-    for (int u = std::max(0, m.u_min - ring); u <= std::min(m.width - 1, m.u_max + ring); ++u) {
-      if (m.covers(u, v))
+/** Largest depth difference between 4-neighbour pixels of one smooth surface at depth \a z:
+ * the sensor's noise, plus the depth change of a surface inclined up to about 63 degrees
+ * (twice the pixel's footprint). A larger step is a depth edge between two surfaces. */
+float smoothStep(float z, const DepthImage& image, const DepthVerificationParams& params) {
+  const PinholeIntrinsics& k = image.intrinsics();
+  const float footprint = z / std::min(k.fx, k.fy);
+  return params.edge_sigmas * params.noise.sigma(z) + 2.f * footprint;
+}
+
+/** True when pixels (u, v) and (nu, nv) show one material: no colour in the image, or colours
+ * within max_colour_step (Euclidean, RGB in [0, 1]). */
+bool sameColour(const DepthImage& image, int u, int v, int nu, int nv,
+                const DepthVerificationParams& params) {
+  if (!image.hasColour())
+    return true;
+  // Against the pixel behind too: a colour edge blurred over two pixels (demosaicing, the
+  // colour camera's registration to depth) changes little per pixel.
+  const Eigen::Vector3f c = image.colour(nu, nv);
+  const int bu = 2 * u - nu, bv = 2 * v - nv;
+  return (image.colour(u, v) - c).norm() <= params.max_colour_step &&
+         (!image.inside(bu, bv) || image.depth(bu, bv) == DepthImage::kEmpty ||
+          (image.colour(bu, bv) - c).norm() <= params.max_colour_step);
+}
+
+/** Marks in \a f every footprint or band pixel that the scene's surface reaches from \a
+ * seeds (the supported pixels) through 4-neighbours without a depth edge (smoothStep) or, when
+ * the image has colour, a colour edge (sameColour: an object in contact, a can standing on a
+ * box, is another material; one surface carrying on is not); the background (the table) and
+ * pixels without depth stop it. Breadth first: deterministic. */
+void growSurface(Footprint& f, const DepthImage& image, const std::vector<std::size_t>& seeds,
+                 const DepthVerificationParams& params) {
+  std::vector<std::pair<int, int>> queue;
+  queue.reserve(seeds.size());
+  for (std::size_t s : seeds) {
+    const int u = f.u0 + static_cast<int>(s % static_cast<std::size_t>(f.w));
+    const int v = f.v0 + static_cast<int>(s / static_cast<std::size_t>(f.w));
+    f.reached[s] = 1;
+    queue.emplace_back(u, v);
+  }
+  static constexpr int kStep[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const auto [u, v] = queue[head];
+    const float z = image.depth(u, v);
+    for (const auto& d : kStep) {
+      const int nu = u + d[0], nv = v + d[1];
+      if (!f.inside(nu, nv))
         continue;
-      // On the ring: exactly `ring` steps from a covered pixel along u or v.
-      if (!(m.covers(u + ring, v) || m.covers(u - ring, v) || m.covers(u, v + ring) ||
-            m.covers(u, v - ring)))
+      const std::size_t i = f.at(nu, nv);
+      if (f.reached[i] || f.cls[i] == Footprint::kOutside)
         continue;
-      if (nearbyModelDepth(m, u, v, ring - 1) < DepthImage::kEmpty)
-        continue;  // nearer to the silhouette than the ring
-      const float scene = image.depth(u, v);
-      if (scene == DepthImage::kEmpty || image.background(u, v))
+      const float nz = image.depth(nu, nv);
+      if (nz == DepthImage::kEmpty || image.background(nu, nv) ||
+          std::abs(nz - z) > smoothStep(std::min(z, nz), image, params) ||
+          !sameColour(image, u, v, nu, nv, params))
         continue;
-      const float model = nearbyModelDepth(m, u, v, ring);
-      const float tolerance =
-          params.edge_sigmas * params.noise.sigma(model) + params.size_tolerance * diameter;
-      if (model - scene > tolerance)
-        continue;  // an occluder in front: says nothing about where the object ends
-      ++judged;
-      if (std::abs(scene - model) <= tolerance)
-        ++continuing;
+      f.reached[i] = 1;
+      queue.emplace_back(nu, nv);
     }
-  return judged > 0 ? static_cast<double>(continuing) / static_cast<double>(judged) : 0.0;
+  }
+}
+
+/** True when the scene at band pixel \a i lies on the model's surface carried on past the
+ * silhouette: the model's depth at the nearest silhouette pixel, extrapolated linearly along
+ * the way out from the model's own depth two pixels further in, within the support tolerance
+ * (noise_sigmas x sigma(z) + size_tolerance x diameter). One surface carrying on passes; an
+ * object in contact meets the model at a fold (a can standing on a box) and does not. */
+bool onModelSurfaceExtended(const Footprint& f, const ModelDepth& m, const DepthImage& image,
+                            std::size_t i, float diameter, const DepthVerificationParams& params) {
+  const int ub = f.u(i), vb = f.v(i), ue = f.u(f.nearest[i]), ve = f.v(f.nearest[i]);
+  const int du = ub - ue, dv = vb - ve, steps = std::max(std::abs(du), std::abs(dv));
+  if (steps == 0)
+    return false;
+  const float edge = m.depth[static_cast<std::size_t>(ve) * m.width + ue];
+  for (int back = 2; back >= 1; --back) {
+    const int ui = ue - static_cast<int>(std::lround(static_cast<double>(du * back) / steps));
+    const int vi = ve - static_cast<int>(std::lround(static_cast<double>(dv * back) / steps));
+    if (!m.covers(ui, vi))
+      continue;
+    const float slope =
+        (edge - m.depth[static_cast<std::size_t>(vi) * m.width + ui]) / static_cast<float>(back);
+    const float extended = edge + slope * static_cast<float>(steps);
+    const float tolerance =
+        params.noise_sigmas * params.noise.sigma(extended) + params.size_tolerance * diameter;
+    return std::abs(image.depth(ub, vb) - extended) <= tolerance;
+  }
+  return false;
+}
+
+/** Of the band around the silhouette (beyond the sensor's smeared edge), the share that
+ * growSurface reached where the scene lies on the model's surface carried on
+ * (onModelSurfaceExtended); \a band_pixels: the band's size. */
+double bandReached(const Footprint& f, const ModelDepth& m, const DepthImage& image, float diameter,
+                   const DepthVerificationParams& params, std::size_t& band_pixels) {
+  std::size_t reached = 0;
+  band_pixels = 0;
+  for (std::size_t i = 0; i < f.cls.size(); ++i)
+    if (f.cls[i] == Footprint::kBand) {
+      ++band_pixels;
+      reached += f.reached[i] && onModelSurfaceExtended(f, m, image, i, diameter, params);
+    }
+  return band_pixels > 0 ? static_cast<double>(reached) / static_cast<double>(band_pixels) : 0.0;
+}
+
+/** What one model pixel's measurement says (DepthExplanation's terms). */
+enum Verdict : std::uint8_t {
+  kSupported,
+  kSeenThrough,
+  kBelowSupport,
+  kOccluded,
+  kMissing,
+  kOnBackground,
+  kIsolatedConflict,  ///< counted, never a pixel's verdict
+  kUnjudged,          ///< near the silhouette or grazing: not counted
+  kVerdicts = kUnjudged
+};
+
+/** The verdict of model pixel (u, v), \a margin pixels or more inside the silhouette being
+ * judged in full; nearer, only the table in front counts (a lateral pose error of a few pixels
+ * cannot put the model's edge beneath the table by more than the tolerance). */
+Verdict judgePixel(const ModelDepth& m, const DepthImage& image, int u, int v, int margin,
+                   float diameter, const DepthVerificationParams& params) {
+  const std::size_t i = static_cast<std::size_t>(v) * m.width + u;
+  if (m.cosine[i] < params.min_view_cosine)
+    return kUnjudged;
+  const bool judged = awayFromSilhouette(m, u, v, margin);
+  const float scene = image.depth(u, v);
+  if (scene == DepthImage::kEmpty)
+    return judged ? kMissing : kUnjudged;
+  const float tolerance =
+      params.noise_sigmas * params.noise.sigma(m.depth[i]) + params.size_tolerance * diameter;
+  // Distance along the surface normal: a depth offset on an oblique face is larger.
+  const float off = (scene - m.depth[i]) * m.cosine[i];
+  const bool background = image.background(u, v);
+  if (off < -tolerance && background)
+    return kBelowSupport;  // the table in front of the model: the model lies beneath it
+  if (!judged)
+    return kUnjudged;
+  if (off > tolerance)
+    return kSeenThrough;
+  if (off < -tolerance)
+    return kOccluded;
+  return background ? kOnBackground : kSupported;
+}
+
+/** (Offset of the measured depth from model pixel (u, v)'s surface along its normal / sigma)^2. */
+double squaredNoiseOffset(const ModelDepth& m, const DepthImage& image, int u, int v,
+                          const DepthVerificationParams& params) {
+  const std::size_t i = static_cast<std::size_t>(v) * m.width + u;
+  const double off = (image.depth(u, v) - m.depth[i]) * m.cosine[i];
+  const double sigma = params.noise.sigma(m.depth[i]);
+  return off * off / (sigma * sigma);
+}
+
+/** How many of the 4 neighbours of (u, v) share its verdict. */
+int sameVerdictNeighbours(const std::vector<std::uint8_t>& verdict, const Footprint& f, int u,
+                          int v) {
+  const std::uint8_t what = verdict[f.at(u, v)];
+  int same = 0;
+  for (const auto& [du, dv] :
+       {std::pair{1, 0}, std::pair{-1, 0}, std::pair{0, 1}, std::pair{0, -1}})
+    same += f.inside(u + du, v + dv) && verdict[f.at(u + du, v + dv)] == what;
+  return same;
 }
 
 }  // namespace
@@ -215,51 +402,68 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
                               const DepthVerificationParams& params) {
   params.validate();
   DepthExplanation e;
-  if (image.empty() || m.width != image.width() || m.height != image.height())
+  if (image.empty() || m.width != image.width() || m.height != image.height() || m.u_max < m.u_min)
     return e;
   const int margin = silhouetteMarginPixels(m, image.intrinsics(), diameter, params);
-  std::size_t supported = 0, seen_through = 0, occluded = 0, missing = 0, on_background = 0;
+  Footprint footprint = footprintWithBand(m, margin + 1, params.border_pixels);
+  std::vector<std::uint8_t> verdict(footprint.cls.size(), kUnjudged);
+  for (int v = m.v_min; v <= m.v_max; ++v)
+    for (int u = m.u_min; u <= m.u_max; ++u)
+      if (m.covers(u, v))
+        verdict[footprint.at(u, v)] = judgePixel(m, image, u, v, margin, diameter, params);
+  std::size_t count[kVerdicts] = {};
+  std::vector<std::size_t> seeds, occluders;
+  double squared_offsets = 0.0;
   for (int v = m.v_min; v <= m.v_max; ++v)
     for (int u = m.u_min; u <= m.u_max; ++u) {
-      const std::size_t i = static_cast<std::size_t>(v) * m.width + u;
-      if (!m.covers(u, v) || m.cosine[i] < params.min_view_cosine ||
-          !awayFromSilhouette(m, u, v, margin))
+      const std::size_t i = footprint.at(u, v);
+      const std::uint8_t what = verdict[i];
+      if (what == kUnjudged)
         continue;
-      const float scene = image.depth(u, v);
-      if (scene == DepthImage::kEmpty) {
-        ++missing;
-        continue;
-      }
-      const float tolerance =
-          params.noise_sigmas * params.noise.sigma(m.depth[i]) + params.size_tolerance * diameter;
-      // Distance along the surface normal: a depth offset on an oblique face is larger.
-      const float off = (scene - m.depth[i]) * m.cosine[i];
-      if (off > tolerance)
-        ++seen_through;
-      else if (off < -tolerance)
-        ++occluded;
-      else if (image.background(u, v))
-        ++on_background;
+      if (what == kSupported) {
+        seeds.push_back(i);
+        squared_offsets += squaredNoiseOffset(m, image, u, v, params);
+      } else if (what == kOccluded)
+        occluders.push_back(i);
+      // A conflict is a region, not a pixel: an isolated outlier (a flying pixel, a speckle)
+      // behind a right surface is noise, the model sticking out over the table is not.
+      if ((what == kSeenThrough || what == kBelowSupport) &&
+          sameVerdictNeighbours(verdict, footprint, u, v) < 2)
+        ++count[kIsolatedConflict];
       else
-        ++supported;
+        ++count[what];
     }
-  e.model_pixels = supported + seen_through + occluded + missing + on_background;
+  const std::size_t supported = count[kSupported], seen_through = count[kSeenThrough],
+                    below_support = count[kBelowSupport];
+  if (supported > 0)
+    e.residual = std::sqrt(squared_offsets / static_cast<double>(supported));
+  e.model_pixels = supported + seen_through + below_support + count[kOccluded] +
+                   count[kIsolatedConflict] + count[kMissing] + count[kOnBackground];
   if (e.model_pixels == 0)
     return e;
   const double n = static_cast<double>(e.model_pixels);
   e.supported = static_cast<double>(supported) / n;
   e.seen_through = static_cast<double>(seen_through) / n;
-  e.occluded = static_cast<double>(occluded) / n;
-  e.missing = static_cast<double>(missing) / n;
-  e.on_background = static_cast<double>(on_background) / n;
-  e.visible_support =
-      supported + seen_through > 0
-          ? static_cast<double>(supported) / static_cast<double>(supported + seen_through)
-          : 0.0;
+  e.below_support = static_cast<double>(below_support) / n;
+  e.occluded = static_cast<double>(count[kOccluded]) / n;
+  e.isolated_conflicts = static_cast<double>(count[kIsolatedConflict]) / n;
+  e.missing = static_cast<double>(count[kMissing]) / n;
+  e.on_background = static_cast<double>(count[kOnBackground]) / n;
+  growSurface(footprint, image, seeds, params);
   e.silhouette_continuation =
-      silhouetteContinuation(m, image, diameter, params, margin, e.silhouette_pixels);
-  e.confidence = std::max(0.0, 1.0 - (1.0 - e.visible_support) / params.max_seen_through) *
-                 (1.0 - e.silhouette_continuation) *
+      bandReached(footprint, m, image, diameter, params, e.silhouette_pixels);
+  std::size_t reached_occluders = 0;
+  for (std::size_t i : occluders)
+    reached_occluders += footprint.reached[i];
+  e.occluder_continuation = occluders.empty() ? 0.0
+                                              : static_cast<double>(reached_occluders) /
+                                                    static_cast<double>(occluders.size());
+  const std::size_t conflicts = seen_through + below_support;
+  e.visible_support = supported + conflicts > 0 ? static_cast<double>(supported) /
+                                                      static_cast<double>(supported + conflicts)
+                                                : 0.0;
+  e.confidence = std::max(0.0, 1.0 - (1.0 - e.visible_support) / params.max_conflict) *
+                 std::max(0.0, 1.0 - e.silhouette_continuation / params.max_continuation) *
                  std::min(1.0, e.supported / params.full_evidence);
   return e;
 }

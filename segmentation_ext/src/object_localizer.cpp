@@ -3,6 +3,7 @@
  * SPDX-License-Identifier: BSD-3-Clause
  */
 #include <pcl/icf/global_search.h>
+#include <pcl/icf/pose_verification.h>
 #include <pcl/icf/segmentation/colour_histogram.h>
 #include <pcl/icf/usable_point.h>
 #include <pcl/point_types.h>
@@ -12,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -71,6 +73,11 @@ void LocalizerParams::validate() const {
     fail("threads", threads, "must lie in [0, 1024] (0 = all cores)");
   if (!(min_points_in_front >= 0.0 && min_points_in_front <= 1.0))
     fail("min_points_in_front", min_points_in_front, "must lie in [0, 1]");
+  if (max_instances < 1 || max_instances > 1000)
+    fail("max_instances", max_instances, "must lie in [1, 1000]");
+  if (!(max_shared_points >= 0.0 && max_shared_points < 1.0))
+    fail("max_shared_points", max_shared_points, "must lie in [0, 1)");
+  alternatives.validate();
   if (camera_pose)
     validateCameraPose(*camera_pose, "LocalizerParams::camera_pose");
 }
@@ -88,6 +95,62 @@ void validateCameraPose(const Eigen::Isometry3f& camera_to_scene, const std::str
         std::to_string(orthonormality) + ", det " + std::to_string(r.determinant()) + ")");
   if (!(m.row(3) - Eigen::RowVector4f(0, 0, 0, 1)).isZero(0.f))
     throw std::invalid_argument(what + ": the bottom row must be 0 0 0 1");
+}
+
+namespace {
+
+/** How many points the sorted index lists \a a and \a b have in common. */
+std::size_t sharedPoints(const std::vector<pcl::index_t>& a, const std::vector<pcl::index_t>& b) {
+  std::size_t shared = 0;
+  for (auto i = a.begin(), j = b.begin(); i != a.end() && j != b.end();)
+    if (*i < *j)
+      ++i;
+    else if (*j < *i)
+      ++j;
+    else {
+      ++shared;
+      ++i;
+      ++j;
+    }
+  return shared;
+}
+
+std::vector<pcl::index_t> sortedIndices(pcl::Indices s) {
+  std::sort(s.begin(), s.end());
+  return s;
+}
+
+}  // namespace
+
+std::vector<int> rankInstances(const std::vector<ClusterLocalization>& clusters, int max_instances,
+                               double max_shared) {
+  std::vector<int> order;
+  for (std::size_t k = 0; k < clusters.size(); ++k)
+    if (clusters[k].accepted)
+      order.push_back(static_cast<int>(k));
+  // By score, ties by index: deterministic.
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return clusters[static_cast<std::size_t>(a)].score >
+           clusters[static_cast<std::size_t>(b)].score;
+  });
+  std::vector<int> instances;
+  std::vector<std::vector<pcl::index_t>> claimed;
+  for (int k : order) {
+    if (static_cast<int>(instances.size()) >= max_instances)
+      break;
+    const std::vector<pcl::index_t> points =
+        sortedIndices(clusters[static_cast<std::size_t>(k)].explained);
+    // Each scene point explains one instance: a pose that explains the points of a better one
+    // (found again in a merged cluster and in its convexity segment) is the same object.
+    const double limit = max_shared * static_cast<double>(points.size());
+    if (std::any_of(claimed.begin(), claimed.end(), [&](const auto& other) {
+          return static_cast<double>(sharedPoints(points, other)) > limit;
+        }))
+      continue;
+    instances.push_back(k);
+    claimed.push_back(points);
+  }
+  return instances;
 }
 
 namespace detail {
@@ -108,6 +171,8 @@ void toSceneFrame(Localization& loc, const Eigen::Isometry3f& camera_to_scene) {
   for (auto& c : loc.clusters) {
     c.icf.object_pose = to_scene * c.icf.object_pose;
     c.icf.scene_to_model = c.icf.scene_to_model * to_camera;
+    for (auto& alt : c.alternatives)
+      alt.object_pose = camera_to_scene * alt.object_pose;
   }
   // A plane n.x + d = 0 in the camera's frame is (R n).y + d - (R n).t = 0 in the scene's.
   auto& plane = loc.segmentation.plane.coefficients;
@@ -145,6 +210,115 @@ int gateFarPoints(const std::vector<Eigen::Vector3f>& points, const IcfModel& mo
   return far;
 }
 
+/** The points of \a indices within the verification's depth tolerance of the posed model's
+ * surface (noise_sigmas x sigma(z) + size_tolerance x diameter). */
+pcl::Indices explainedPoints(const SceneView& view, const pcl::PointIndices& indices,
+                             const IcfModel& model, const Eigen::Isometry3f& scene_to_model,
+                             const DepthVerificationParams& v) {
+  const float size = v.size_tolerance * 2.f * model.radius();
+  pcl::Indices explained;
+  for (const auto i : indices.indices) {
+    const Eigen::Vector3f& p = view.points[static_cast<std::size_t>(i)];
+    if (!isUsablePoint(p))
+      continue;
+    const float tolerance = v.noise_sigmas * v.noise.sigma(p.z()) + size;
+    if (model.index().closestFace(scene_to_model * p, tolerance).distance <= tolerance)
+      explained.push_back(i);
+  }
+  return explained;
+}
+
+/** True when a judged cluster may hold another object besides its pose's: it was accepted, or
+ * its pose leaves at least a third of its points unexplained (one of two touching copies,
+ * pulled towards the other). */
+bool holdsMore(const ClusterLocalization& judged, const pcl::PointIndices& cluster) {
+  if (judged.verification.model_pixels == 0)
+    return false;
+  return judged.accepted || 3 * judged.explained.size() <= 2 * cluster.indices.size();
+}
+
+/** The points of \a cluster not in \a explained, sorted. */
+pcl::PointIndices unexplainedPoints(const pcl::PointIndices& cluster,
+                                    const pcl::Indices& explained) {
+  const pcl::Indices all = sortedIndices(cluster.indices), some = sortedIndices(explained);
+  pcl::PointIndices rest;
+  std::set_difference(all.begin(), all.end(), some.begin(), some.end(),
+                      std::back_inserter(rest.indices));
+  return rest;
+}
+
+/** The usable points of \a indices. */
+std::vector<Eigen::Vector3f> usablePoints(const SceneView& view, const pcl::PointIndices& indices) {
+  std::vector<Eigen::Vector3f> points;
+  points.reserve(indices.indices.size());
+  for (const auto i : indices.indices)
+    if (isUsablePoint(view.points[static_cast<std::size_t>(i)]))
+      points.push_back(view.points[static_cast<std::size_t>(i)]);
+  return points;
+}
+
+/** \a alt's turn from \a from, in \a from's model frame: axis, angle and offsets. */
+void describeTurn(const Eigen::Isometry3f& from, PoseAlternative& alt) {
+  const Eigen::AngleAxisf turn(from.linear().transpose() * alt.object_pose.linear());
+  alt.axis = turn.axis();
+  alt.turn_deg = std::abs(turn.angle()) * 180.f / static_cast<float>(M_PI);
+  alt.rotation_offset_deg = alt.turn_deg;
+  alt.translation_offset = (alt.object_pose.translation() - from.translation()).norm();
+}
+
+/** A pose against its turns about the model's principal axes (turnedAlternatives): a turn
+ * that explains the depth clearly better (by more than the margin) replaces it; the others as
+ * good (within the margin) are recorded as its alternatives. */
+void resolveTurns(ClusterLocalization& c, const SceneView& view, const DepthImage& image,
+                  const IcfModel& model, const PrincipalAxes& axes, const LocalizerParams& params) {
+  const std::vector<Eigen::Vector3f> points = usablePoints(view, c.indices);
+  PoseAlternativeParams ap = params.alternatives;
+  ap.refinement = params.icf.refinement;
+  ap.verification = params.verification;
+  const Eigen::Isometry3f found(c.icf.object_pose);
+  std::vector<PoseAlternative> candidates =
+      turnedAlternatives(model, axes, points, found, c.verification, image, ap);
+  if (candidates.empty())
+    return;
+  PoseAlternative self;
+  self.object_pose = found;
+  self.verification = c.verification;
+  candidates.insert(candidates.begin(), self);
+  // A turn replaces the search's pose only when it explains the depth clearly better (its
+  // confidence higher by more than the margin): within the margin the difference is noise
+  // (a flat box's flip and the truth differ by 0.001-0.006 on the YCB-Video frames, either
+  // way), and the turns are reported as alternatives instead.
+  std::size_t chosen = 0;
+  for (std::size_t k = 1; k < candidates.size(); ++k)
+    if (candidates[k].verification.confidence >
+        candidates[chosen].verification.confidence + (chosen == 0 ? ap.confidence_margin : 0.0))
+      chosen = k;
+  const PoseAlternative winner = candidates[chosen];
+  if (chosen != 0) {
+    const double colour_factor =
+        c.verification.confidence > 0.0 ? c.score / c.verification.confidence : 1.0;
+    const Eigen::Isometry3f scene_to_model = winner.object_pose.inverse();
+    c.icf.object_pose = winner.object_pose.matrix();
+    c.icf.scene_to_model = scene_to_model.matrix();
+    c.icf.quality = measurePoseQuality(model, points, scene_to_model, kCameraAtOrigin,
+                                       params.icf.acceptance.inlier_distance,
+                                       params.icf.acceptance.gate_distance, params.icf.objective,
+                                       params.icf.acceptance.visibility);
+    c.verification = winner.verification;
+    c.score = c.verification.confidence * colour_factor;
+    c.explained = explainedPoints(view, c.indices, model, scene_to_model, params.verification);
+    c.turned = true;
+  }
+  c.alternatives.clear();
+  for (std::size_t k = 0; k < candidates.size(); ++k)
+    if (k != chosen && candidates[k].verification.confidence >=
+                           winner.verification.confidence - ap.confidence_margin) {
+      PoseAlternative alt = candidates[k];
+      describeTurn(winner.object_pose, alt);
+      c.alternatives.push_back(alt);
+    }
+}
+
 /** Why a judged cluster is not accepted ("" when it is). */
 std::string rejection(const ClusterLocalization& c, const LocalizerParams& params) {
   std::ostringstream why;
@@ -153,6 +327,7 @@ std::string rejection(const ClusterLocalization& c, const LocalizerParams& param
     why << "confidence " << e.confidence << " < " << params.min_confidence << ": explains "
         << std::lround(100.0 * e.visible_support) << "% of the visible model, "
         << std::lround(100.0 * e.seen_through) << "% seen through, "
+        << std::lround(100.0 * e.below_support) << "% beneath the table, "
         << std::lround(100.0 * e.silhouette_continuation) << "% of its silhouette continues, "
         << std::lround(100.0 * e.supported) << "% of it supported ";
   if (!c.gate_passed)
@@ -167,16 +342,12 @@ std::string rejection(const ClusterLocalization& c, const LocalizerParams& param
 ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
                                  const pcl::PointIndices& indices, const IcfModel& model,
                                  const LocalizerParams& params, int icf_threads,
-                                 const std::optional<ColourHistogram>& expected,
-                                 bool single_object) {
+                                 const std::optional<ColourHistogram>& expected, bool single_object,
+                                 const PrincipalAxes* axes) {
   ClusterLocalization c;
   c.indices = indices;
   c.single_object = single_object;
-  std::vector<Eigen::Vector3f> points;
-  points.reserve(indices.indices.size());
-  for (const auto i : indices.indices)
-    if (isUsablePoint(view.points[static_cast<std::size_t>(i)]))
-      points.push_back(view.points[static_cast<std::size_t>(i)]);
+  const std::vector<Eigen::Vector3f> points = usablePoints(view, indices);
   IcfParams icf = params.icf;
   icf.threads = icf_threads;
   c.icf = estimatePose(model, points, kCameraAtOrigin, icf);
@@ -187,6 +358,8 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
   const Eigen::Isometry3f model_to_camera(c.icf.object_pose);
   const ModelDepth rendered = renderModelDepth(model, model_to_camera, image.intrinsics());
   c.verification = explainDepth(rendered, image, 2.f * model.radius(), params.verification);
+  c.explained = explainedPoints(view, indices, model, Eigen::Isometry3f(c.icf.scene_to_model),
+                                params.verification);
   if (params.thesis_gate) {
     c.gate_far_points = gateFarPoints(points, model, Eigen::Isometry3f(c.icf.scene_to_model),
                                       rendered, image, params, single_object);
@@ -203,6 +376,10 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
     colour_factor = std::pow(std::max(1e-3, *c.colour_similarity), params.colour.weight);
   }
   c.score = c.verification.confidence * colour_factor;
+  // A promising pose is checked against its turns before it is judged: the search may have
+  // landed on a near-symmetric flip that explains the depth a little worse.
+  if (axes && c.verification.confidence >= 0.5 * params.min_confidence)
+    resolveTurns(c, view, image, model, *axes, params);
   c.reason = rejection(c, params);
   c.accepted = c.reason.empty();
   return c;
@@ -223,6 +400,8 @@ DepthImage sceneDepthImage(const SceneView& view, const pcl::Indices& table,
     k = DepthImage::virtualCamera(view.points, DepthImage::angularSpacing(view.points));
   DepthImage image(view.points, k);
   image.markBackground(view.points, table);
+  if (!view.colours.empty())
+    image.setColours(view.points, view.colours);
   return image;
 }
 
@@ -237,6 +416,24 @@ bool clusterLooksMerged(const SceneView& view, const pcl::PointIndices& cluster,
   for (const auto i : cluster.indices)
     points.push_back(view.points[static_cast<std::size_t>(i)]);
   return spreadsWiderThanModel(points, model.radius(), params.icf.global);
+}
+
+/** "no cluster passed the acceptance rules; the best, cluster 3 (confidence 0.42): why". */
+std::string notFoundMessage(const std::vector<ClusterLocalization>& clusters) {
+  const ClusterLocalization* top = nullptr;
+  std::size_t index = 0;
+  for (std::size_t k = 0; k < clusters.size(); ++k)
+    if (!clusters[k].reason.empty() && (!top || clusters[k].score > top->score)) {
+      top = &clusters[k];
+      index = k;
+    }
+  std::string text = "no cluster passed the acceptance rules";
+  if (!top)
+    return text;
+  char confidence[32];
+  std::snprintf(confidence, sizeof(confidence), "%.2f", top->verification.confidence);
+  return text + "; the best, cluster " + std::to_string(index) + " (confidence " + confidence +
+         "): " + top->reason;
 }
 
 pcl::PointCloud<pcl::PointXYZRGBA> colouredCloud(const SceneView& view) {
@@ -322,6 +519,9 @@ Localization localizeInView(const SceneView& view, TabletopSegmentation segmenta
     }
   }
 
+  std::optional<PrincipalAxes> axes;
+  if (params.check_turns)
+    axes = principalAxes(model);
   const int threads = params.threads > 0 ? params.threads : omp_get_num_procs();
   out.clusters.resize(clusters.size());
   // Compact clusters and convexity segments first; a merged cluster whole only when none of
@@ -332,7 +532,7 @@ Localization localizeInView(const SceneView& view, TabletopSegmentation segmenta
     for (int j = 0; j < m; ++j) {
       const auto k = static_cast<std::size_t>(which[static_cast<std::size_t>(j)]);
       out.clusters[k] = judgeCluster(view, image, clusters[k], model, params, m == 1 ? threads : 1,
-                                     expected, single[k]);
+                                     expected, single[k], axes ? &*axes : nullptr);
     }
   };
   std::vector<int> first, second;
@@ -354,17 +554,63 @@ Localization localizeInView(const SceneView& view, TabletopSegmentation segmenta
       retry.push_back(k);
   }
   judge(retry);
+  // More instances: what an accepted pose leaves of its cluster is searched again, as a
+  // cluster of its own (two touching copies of the object share one Euclidean cluster); when
+  // that finds one, the first is searched again without the second's points (its pose was
+  // pulled by them). rankInstances keeps the better of a cluster and its refit.
+  std::vector<bool> expanded(clusters.size(), false);
+  auto addCandidate = [&](pcl::PointIndices points, std::size_t parent, bool expand) {
+    if (points.indices.size() < params.segmentation.cluster.min_size)
+      return -1;
+    clusters.push_back(std::move(points));
+    parents.push_back(static_cast<int>(parent));
+    single.push_back(true);
+    expanded.push_back(expand);
+    return static_cast<int>(clusters.size()) - 1;
+  };
+  auto judgeAdded = [&](const std::vector<int>& added) {
+    out.clusters.resize(clusters.size());
+    judge(added);
+  };
+  // With one instance asked for, one round when nothing was accepted: a pose pulled between
+  // two touching objects is rejected, and each of them alone may be found.
+  const bool none_accepted = std::none_of(out.clusters.begin(), out.clusters.end(),
+                                          [](const ClusterLocalization& c) { return c.accepted; });
+  const int rounds = std::max(params.max_instances, none_accepted ? 2 : 1);
+  for (int round = 1; round < rounds; ++round) {
+    std::vector<int> rests, refits;
+    const std::size_t judged = clusters.size();
+    for (std::size_t k = 0; k < judged; ++k)
+      if (!expanded[k] && holdsMore(out.clusters[k], clusters[k])) {
+        expanded[k] = true;
+        const int r =
+            addCandidate(unexplainedPoints(clusters[k], out.clusters[k].explained), k, false);
+        if (r >= 0)
+          rests.push_back(r);
+      }
+    if (rests.empty())
+      break;
+    judgeAdded(rests);
+    for (int r : rests) {
+      const auto parent = static_cast<std::size_t>(parents[static_cast<std::size_t>(r)]);
+      if (!out.clusters[static_cast<std::size_t>(r)].accepted)
+        continue;
+      const int refit = addCandidate(
+          unexplainedPoints(clusters[parent], out.clusters[static_cast<std::size_t>(r)].explained),
+          parent, true);
+      if (refit >= 0)
+        refits.push_back(refit);
+    }
+    judgeAdded(refits);
+  }
   for (std::size_t k = 0; k < out.clusters.size(); ++k)
     out.clusters[k].parent = parents[k];
 
-  for (std::size_t k = 0; k < out.clusters.size(); ++k)
-    if (out.clusters[k].accepted &&
-        (out.best < 0 ||
-         out.clusters[k].score > out.clusters[static_cast<std::size_t>(out.best)].score))
-      out.best = static_cast<int>(k);
+  out.instances = rankInstances(out.clusters, params.max_instances, params.max_shared_points);
+  out.best = out.instances.empty() ? -1 : out.instances.front();
   out.status = out.best >= 0 ? LocalizationStatus::Found : LocalizationStatus::NotFound;
   if (out.best < 0)
-    out.message = "no cluster passed the acceptance rules";
+    out.message = notFoundMessage(out.clusters);
   out.registration_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   out.total_ms = out.segmentation_ms + out.registration_ms;

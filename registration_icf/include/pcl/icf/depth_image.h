@@ -93,6 +93,19 @@ class DepthImage {
     return inside(u, v) && background_[static_cast<std::size_t>(v) * k_.width + u] != 0;
   }
   bool inside(int u, int v) const { return u >= 0 && v >= 0 && u < k_.width && v < k_.height; }
+  /** \brief True when colours were set (setColours). */
+  bool hasColour() const { return !colour_.empty(); }
+  /** \brief RGB in [0, 1] of the nearest measurement at pixel (u, v) (black without one);
+   * only when hasColour(). */
+  Eigen::Vector3f colour(int u, int v) const {
+    return inside(u, v) ? colour_[static_cast<std::size_t>(v) * k_.width + u]
+                        : Eigen::Vector3f::Zero();
+  }
+  /** \brief Gives every pixel the colour (RGB in [0, 1]) of its nearest measurement among \a
+   * points; \a colours[i] belongs to \a points[i]. \throws std::invalid_argument when the
+   * sizes differ. */
+  void setColours(const std::vector<Eigen::Vector3f>& points,
+                  const std::vector<Eigen::Vector3f>& colours);
 
   /** \brief Marks the pixels of \a points[indices] as background (where they are the nearest
    * measurement of their pixel). */
@@ -106,6 +119,7 @@ class DepthImage {
   PinholeIntrinsics k_;
   std::vector<float> depth_;
   std::vector<std::uint8_t> background_;
+  std::vector<Eigen::Vector3f> colour_;
 };
 
 }  // namespace icf

@@ -35,9 +35,15 @@ struct DepthVerificationParams {
    * refinement and the mesh's difference from the real object (a scanned YCB mesh: 1-3 mm on
    * 10-20 cm objects). */
   float size_tolerance = 0.015f;
-  /** The scene "carries on" past the model's silhouette where a pixel just outside it has a
-   * depth within edge_sigmas x sigma(z) + size_tolerance x diameter of the model's border. */
+  /** Neighbouring pixels of one smooth surface differ in depth by at most edge_sigmas x
+   * sigma(z) plus the depth change of a 63-degree slope over one pixel; a larger step is a
+   * depth edge between surfaces (silhouette_continuation). */
   float edge_sigmas = 6.f;
+  /** Where the image has colour: neighbouring pixels of one surface differ in colour by at
+   * most this (Euclidean distance of RGB in [0, 1]); a larger step is a colour edge where
+   * silhouette_continuation stops (an object in contact is usually another material). 35/255,
+   * the default point colour threshold of PCL's RegionGrowingRGB. */
+  float max_colour_step = 35.f / 255.f;
   /** Model pixels this close (in pixels) to the silhouette are not judged: depth edges smear
    * (flying pixels, missing depth at edges) and a pose error of a pixel moves them. The ring
    * of pixels judged for continuation lies this far outside. */
@@ -49,10 +55,16 @@ struct DepthVerificationParams {
   /** Faces seen more obliquely than this (cosine between ray and normal) hide what lies
    * behind them but are not judged: a depth camera returns little there. */
   float min_view_cosine = 0.25f;
-  /** A right pose is seen through almost nowhere (noise, the mesh's error); the confidence
-   * falls linearly with the share seen through, seen_through / (supported + seen_through),
-   * and reaches 0 at this share. */
-  double max_seen_through = 0.2;
+  /** A right pose conflicts with the depth almost nowhere; the confidence falls linearly with
+   * the conflicting share, 1 - visible_support, and reaches 0 at this share. Calibrated
+   * (doc/BENCHMARKS.md, "Identification"): right poses conflict on at most 0.5% of their
+   * pixels on the real frames, 0.1% on the synthetic ones; a cylinder posed on a shorter one,
+   * sunk into the table, on 3-5%. */
+  double max_conflict = 0.1;
+  /** The confidence falls linearly with silhouette_continuation and reaches 0 at this share.
+   * Calibrated like max_conflict: right poses 0-0.01, a model posed on part of a bigger
+   * look-alike 0.05-0.3. */
+  double max_continuation = 0.2;
   /** Share of the model's rendered pixels that must be supported for full evidence; fewer
    * lower the confidence in proportion (a target 25% visible at 0.5 keeps half of it). */
   double full_evidence = 0.5;
@@ -97,24 +109,44 @@ struct DepthExplanation {
   /** Measured depth in front of the model surface: something else occludes it. Allowed, but it
    * explains nothing. */
   double occluded = 0.0;
+  /** Measured depth in front of the model surface where the measurement is the background (the
+   * table): the model would lie beneath the surface it stands on. A conflict, like
+   * seen_through: a table's top cannot hide an object resting on it from a camera above it. */
+  double below_support = 0.0;
+  /** Measured depth behind the model surface, or the table in front of it, at a pixel with
+   * fewer than 2 of its 4 neighbours in the same conflict: an isolated outlier (a flying
+   * pixel, a speckle), noise rather than a conflict. Not in seen_through or below_support. */
+  double isolated_conflicts = 0.0;
   /** No measurement (the sensor's holes, black or shiny surfaces): neither for nor against. */
   double missing = 0.0;
   /** Measured depth on the model surface, but the measurement belongs to the background (the
    * table): the table explains it, so it is no evidence for the model (a box laid flat into
    * the table's surface would otherwise be "supported" everywhere). */
   double on_background = 0.0;
-  /** supported / (supported + seen_through): of the model's pixels where the camera could
-   * have seen the model, the share where it did. */
+  /** RMS over the supported pixels of the measured depth's offset from the model surface
+   * (along its normal) in units of the sensor's noise sigma(z): about 1 when the model fits
+   * as well as the sensor measures, more when the mesh or the pose is off within the
+   * tolerance. Breaks ties between poses of equal confidence (a near-symmetric turn). */
+  double residual = 0.0;
+  /** supported / (supported + seen_through + below_support): of the model's
+   * pixels where the camera could have seen the model, the share where it did. */
   double visible_support = 0.0;
-  /** Of the pixels just outside the silhouette whose depth was measured (and is not
-   * background such as the table), the share where the scene's surface carries on at the
-   * model's depth: a silhouette where the scene shows no depth step, so the model explains
-   * only part of a bigger surface. */
+  /** Where the model explains only part of a bigger surface. The scene's surface is grown from
+   * the supported pixels through neighbouring pixels without a depth edge (a step larger than
+   * edge_sigmas x sigma(z) plus a 63-degree slope) or a colour edge (max_colour_step, where
+   * the image has colour); the background and missing depth stop it.
+   * Of the band around the silhouette (from border_pixels + 1 to the silhouette margin + 1
+   * pixels out), the share it reaches: a silhouette where the scene shows no depth step. */
   double silhouette_continuation = 0.0;
-  std::size_t silhouette_pixels = 0;  ///< ring pixels judged
-  /** In [0, 1]: max(0, 1 - (1 - visible_support) / max_seen_through) x (1 -
-   * silhouette_continuation) x min(1, supported / full_evidence). What the localizer ranks
-   * and accepts by (doc/localizer.md). */
+  std::size_t silhouette_pixels = 0;  ///< pixels of the band around the silhouette
+  /** Of the model's occluded pixels, the share the same grown surface reaches: the
+   * "occluder" is the scene surface carrying on in front of the model (a taller can around a
+   * shorter model) or an object in contact with it (a can standing on a box; its colour
+   * does not always stop the growth, so this is reported, not in the confidence). */
+  double occluder_continuation = 0.0;
+  /** In [0, 1]: max(0, 1 - (1 - visible_support) / max_conflict) x max(0, 1 -
+   * silhouette_continuation / max_continuation) x min(1, supported / full_evidence). What the
+   * localizer ranks and accepts by (doc/localizer.md). */
   double confidence = 0.0;
 };
 

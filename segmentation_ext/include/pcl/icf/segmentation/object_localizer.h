@@ -7,6 +7,7 @@
 #include <pcl/icf/depth_verification.h>
 #include <pcl/icf/estimate_pose.h>
 #include <pcl/icf/icf_model.h>
+#include <pcl/icf/pose_alternatives.h>
 #include <pcl/icf/segmentation/convexity_split.h>
 #include <pcl/icf/segmentation/precompiled_point_types.h>
 #include <pcl/icf/segmentation/tabletop_segmentation.h>
@@ -48,9 +49,11 @@ struct LocalizerParams {
    * sensor's noise at each pixel's depth and with the model's size. */
   DepthVerificationParams verification;
   /** A pose is accepted when its confidence (DepthExplanation::confidence) reaches this.
-   * Chosen from the curve of false poses against missed objects (doc/BENCHMARKS.md,
-   * "Identification"). */
-  double min_confidence = 0.5;
+   * Chosen from the curve of false poses against missed objects over 160 present and absent
+   * cases, real and synthetic (doc/BENCHMARKS.md, "Identification"): the middle of the gap
+   * between the look-alikes (at most 0.80, one real case excepted) and the right poses (at
+   * least 0.95). */
+  double min_confidence = 0.875;
   /** Intrinsics of the camera, for an unorganized cloud (an organized one gives its own, fitted
    * to its points). Unset: a virtual camera at the cloud's point spacing. */
   std::optional<PinholeIntrinsics> intrinsics;
@@ -86,6 +89,23 @@ struct LocalizerParams {
   /** The scene must lie in front of the camera: at least this share of its finite points at
    * positive depth, else BadScene (a camera pose given the wrong way round). */
   double min_points_in_front = 0.5;
+  /** Instances reported (Localization::instances), best first. 1: the best only. Above 1,
+   * the points of a cluster that an accepted pose leaves unexplained (or that any pose leaves
+   * a third of unexplained) are searched again as a cluster of their own (two touching copies
+   * merge into one Euclidean cluster); with 1, once, when no cluster was accepted. */
+  int max_instances = 1;
+  /** Two instances share at most this share of their explained points (the lesser one's);
+   * more, and they are one object found twice. */
+  double max_shared_points = 0.2;
+  /** Every promising pose (confidence at least min_confidence / 2) is turned about the
+   * model's principal axes, refined and verified (turnedAlternatives) before it is judged:
+   * a turn whose confidence is higher by more than alternatives.confidence_margin replaces
+   * it, and the others within the margin are reported (ClusterLocalization::alternatives).
+   * false: the search's pose as it is. */
+  bool check_turns = true;
+  /** Their parameters; refinement and verification are taken from icf.refinement and
+   * verification. */
+  PoseAlternativeParams alternatives;
 
   void validate() const;
 };
@@ -104,7 +124,8 @@ void validateCameraPose(const Eigen::Isometry3f& camera_to_scene, const std::str
 struct ClusterLocalization {
   pcl::PointIndices indices;  ///< the cluster's points in the scene cloud
   /** -1 for a cluster of the segmentation; else the index (in Localization::clusters) of the
-   * merged cluster this convexity segment was split from. */
+   * merged cluster this convexity segment was split from, or of the cluster whose points an
+   * accepted pose left unexplained (max_instances > 1). */
   int parent = -1;
   IcfResult icf;            ///< pose (object_pose: model -> scene), quality, status
   int gate_far_points = 0;  ///< points beyond gate_distance counted by the thesis's gate
@@ -117,7 +138,19 @@ struct ClusterLocalization {
   double score = 0.0;
   bool single_object = true;  ///< judged as one object's points (see thesis_gate)
   bool accepted = false;      ///< confidence >= min_confidence (and the gate, when on)
-  std::string reason;         ///< why not accepted ("" when accepted)
+  /** Poses as good as this one (within alternatives.confidence_margin of its confidence) that
+   * differ from it by a turn: the depth cannot decide between them (a box's flip, a can's
+   * spin). Empty: the pose is unique as far as the depth tells, or the pose was not
+   * promising (confidence below min_confidence / 2: its turns are not tried). */
+  std::vector<PoseAlternative> alternatives;
+  /** The search's pose was replaced by a turned one that explains the depth better; icf.quality
+   * was measured again at it. */
+  bool turned = false;
+  /** The cluster's points the posed model explains: within the verification's depth
+   * tolerance (DepthVerificationParams: noise_sigmas x sigma(z) + size_tolerance x diameter)
+   * of its surface. */
+  pcl::Indices explained;
+  std::string reason;  ///< why not accepted ("" when accepted)
 };
 
 enum class LocalizationStatus {
@@ -135,7 +168,10 @@ struct Localization {
   TabletopSegmentation segmentation;  ///< empty when params.segment is false
   /** The segmentation's clusters in its order, then the convexity segments of merged ones. */
   std::vector<ClusterLocalization> clusters;
-  int best = -1;  ///< index into clusters of the best accepted cluster, -1 when none
+  /** Indices into clusters of the accepted instances, by score (best first), at most
+   * params.max_instances, no two explaining the same points (rankInstances). */
+  std::vector<int> instances;
+  int best = -1;  ///< instances.front(), -1 when none
   /** The camera pose used (camera -> scene): every pose and plane above is in the scene's
    * frame. */
   Eigen::Isometry3f camera_pose = Eigen::Isometry3f::Identity();
@@ -143,6 +179,13 @@ struct Localization {
   double segmentation_ms = 0.0;
   double registration_ms = 0.0;
 };
+
+/** \brief The accepted clusters of \a clusters ranked by score (ties: the lower index), each
+ * kept only when at most \a max_shared of its explained points are explained by a better one
+ * too (a merged cluster and its convexity segment posed on one object are one instance), at
+ * most \a max_instances. */
+std::vector<int> rankInstances(const std::vector<ClusterLocalization>& clusters, int max_instances,
+                               double max_shared = 0.2);
 
 /** \brief Find a known object in a table-top scene (thesis chapters 5-6): segment the table
  * and the clusters, run IterativeClosestFace on every cluster in parallel, apply the

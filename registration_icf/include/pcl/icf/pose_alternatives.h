@@ -1,0 +1,74 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#pragma once
+
+/** \file
+ * \brief When the depth cannot decide: poses that differ from a found one by a turn and
+ * explain the depth image as well (a box-like object's 180-degree flip, a can's spin about its
+ * axis). The thesis's objects were chosen so that the pose was unique up to their symmetries;
+ * a grasp planner given a near-symmetric object needs the alternatives with their scores. */
+
+#include <pcl/icf/depth_verification.h>
+#include <pcl/icf/icf_model.h>
+#include <pcl/icf/refinement.h>
+
+#include <Eigen/Geometry>
+
+#include <vector>
+
+namespace pcl {
+namespace icf {
+
+/** \brief The model's principal axes: the eigenvectors (columns, largest spread first) of its
+ * surface's area-weighted second moments about the surface centroid, in the model frame. */
+struct PrincipalAxes {
+  Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+  Eigen::Matrix3f axes = Eigen::Matrix3f::Identity();
+};
+PrincipalAxes principalAxes(const IcfModel& model);
+
+/** \brief Parameters of turnedAlternatives. */
+struct PoseAlternativeParams {
+  /** An alternative within this much confidence of the best is as good: the pose is
+   * ambiguous. */
+  double confidence_margin = 0.05;
+  /** A refined turn that lands within these of the found pose is the same pose. */
+  float same_translation = 0.005f;  ///< metres, between the model origins
+  float same_rotation_deg = 5.f;
+  /** Points used by each turn's refinement (an evenly strided subset). */
+  std::size_t max_points = 3000;
+  RefinementParams refinement;
+  DepthVerificationParams verification;
+
+  /** \throws std::invalid_argument naming the field. */
+  void validate() const;
+};
+
+/** \brief A pose that differs from the found one by a turn of the model about one of its
+ * principal axes (through its surface centroid), refined and verified like the found one. */
+struct PoseAlternative {
+  Eigen::Isometry3f object_pose = Eigen::Isometry3f::Identity();  ///< model -> camera
+  Eigen::Vector3f axis = Eigen::Vector3f::UnitZ();                ///< the turn's axis, model frame
+  float turn_deg = 180.f;                                         ///< 90, 180 or 270
+  DepthExplanation verification;
+  float translation_offset = 0.f;  ///< metres between this pose's and the found one's origins
+  float rotation_offset_deg = 0.f;
+};
+
+/** \brief Turns the model found at \a object_pose (model -> camera) by 90, 180 and 270 degrees
+ * about each principal axis, refines each turn on \a points (camera frame) and verifies it on
+ * \a image. Returns the distinct refined poses (not within same_translation / same_rotation
+ * of the found one or of each other) whose confidence reaches the found pose's minus
+ * confidence_margin, best first (confidence, then the lower residual). Deterministic. */
+std::vector<PoseAlternative> turnedAlternatives(const IcfModel& model,
+                                                const PrincipalAxes& principal,
+                                                const std::vector<Eigen::Vector3f>& points,
+                                                const Eigen::Isometry3f& object_pose,
+                                                const DepthExplanation& found,
+                                                const DepthImage& image,
+                                                const PoseAlternativeParams& params = {});
+
+}  // namespace icf
+}  // namespace pcl

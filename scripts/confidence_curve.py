@@ -1,0 +1,99 @@
+#!/usr/bin/env python3
+# pcl_icf — Iterative Closest Face registration for PCL.
+# SPDX-License-Identifier: BSD-3-Clause
+"""The curve of false poses against missed objects as the accept threshold on the confidence
+moves (issue 11, doc/BENCHMARKS.md "Identification").
+
+Input: NAME_cases.csv files written by
+    pcl_icf_bench --methods icf-scene --scene-min-confidence 0 ...
+(every case reports its best hypothesis with its confidence). A case is
+  present-right  the target is there and the pose is a success (1 cm, ADD-S rule of the bench),
+  present-wrong  the target is there and the pose is wrong,
+  absent         the target is not there (truth=none).
+At threshold t a pose is reported when confidence >= t. A false pose is a reported absent or
+present-wrong case; a missed object is a present case without a reported right pose.
+
+Writes a table (markdown) of the curve to stdout and, with --plot FILE.png, a gnuplot picture.
+Python's standard library only (Debian's python3), gnuplot for the picture.
+"""
+import argparse
+import csv
+import os
+import subprocess
+import sys
+import tempfile
+
+
+def read_cases(paths):
+    cases = []
+    for path in paths:
+        suite = os.path.basename(path).replace("_cases.csv", "")
+        with open(path, newline="") as f:
+            for row in csv.DictReader(f):
+                if row["method"] != "icf-scene":
+                    continue
+                conf = row.get("confidence", "")
+                if conf == "":
+                    conf = "0"
+                absent = row["absent"] == "1"
+                label = "absent" if absent else ("right" if row["success"] == "1" else "wrong")
+                cases.append({"suite": suite, "case": row["case"], "label": label,
+                              "confidence": float(conf), "terms": row.get("verification", "")})
+    return cases
+
+
+def curve(cases, thresholds):
+    present = sum(1 for c in cases if c["label"] != "absent")
+    absent = sum(1 for c in cases if c["label"] == "absent")
+    rows = []
+    for t in thresholds:
+        reported = [c for c in cases if c["confidence"] >= t]
+        false_absent = sum(1 for c in reported if c["label"] == "absent")
+        false_wrong = sum(1 for c in reported if c["label"] == "wrong")
+        found = sum(1 for c in reported if c["label"] == "right")
+        rows.append((t, false_absent, absent, false_wrong, found, present))
+    return rows
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("csv", nargs="+", help="NAME_cases.csv files of icf-scene runs")
+    ap.add_argument("--plot", help="write the curve as a PNG picture (gnuplot)")
+    ap.add_argument("--list", action="store_true", help="print every case with its terms")
+    args = ap.parse_args()
+    cases = read_cases(args.csv)
+    if not cases:
+        sys.exit("confidence_curve: no icf-scene rows in " + ", ".join(args.csv))
+    if args.list:
+        for c in sorted(cases, key=lambda c: -c["confidence"]):
+            print(f'{c["confidence"]:.3f} {c["label"]:7s} {c["case"]:40s} {c["terms"]}')
+    thresholds = [i / 20 for i in range(21)]
+    print("| threshold | false poses, target absent | wrong poses, target present | "
+          "found (right pose) | missed |")
+    print("|---:|---:|---:|---:|---:|")
+    for t, fa, na, fw, found, npres in curve(cases, thresholds):
+        print(f"| {t:.2f} | {fa}/{na} | {fw}/{npres} | {found}/{npres} | {npres - found}/{npres} |")
+    if args.plot:
+        fine = sorted({0.0, 1.0} | {c["confidence"] for c in cases})
+        with tempfile.NamedTemporaryFile("w", suffix=".dat", delete=False) as dat:
+            for t, fa, na, fw, found, npres in curve(cases, fine):
+                false_rate = (fa + fw) / max(1, na + npres)
+                miss_rate = (npres - found) / max(1, npres)
+                dat.write(f"{false_rate} {miss_rate} {t}\n")
+        script = f"""
+set terminal pngcairo size 720,520
+set output '{args.plot}'
+set xlabel 'false poses (absent target or wrong pose) per case'
+set ylabel 'missed objects per present target'
+set title 'Confidence threshold sweep ({len(cases)} cases)'
+set grid
+set key off
+plot '{dat.name}' using 1:2 with steps lw 2, '' using 1:2:(sprintf('%.2f',$3)) every 8 with labels offset 1,0.5 font ',8'
+"""
+        subprocess.run(["gnuplot"], input=script, text=True, check=True)
+        os.unlink(dat.name)
+
+
+if __name__ == "__main__":
+    main()

@@ -37,8 +37,10 @@ def read_cases(paths):
                     conf = "0"
                 absent = row["absent"] == "1"
                 label = "absent" if absent else ("right" if row["success"] == "1" else "wrong")
+                among = row.get("success_among_alternatives", "") == "1"
                 cases.append({"suite": suite, "case": row["case"], "label": label,
-                              "confidence": float(conf), "terms": row.get("verification", "")})
+                              "confidence": float(conf), "terms": row.get("verification", ""),
+                              "among_alternatives": among})
     return cases
 
 
@@ -51,7 +53,8 @@ def curve(cases, thresholds):
         false_absent = sum(1 for c in reported if c["label"] == "absent")
         false_wrong = sum(1 for c in reported if c["label"] == "wrong")
         found = sum(1 for c in reported if c["label"] == "right")
-        rows.append((t, false_absent, absent, false_wrong, found, present))
+        among = sum(1 for c in reported if c["label"] != "absent" and c["among_alternatives"])
+        rows.append((t, false_absent, absent, false_wrong, found, present, among))
     return rows
 
 
@@ -70,14 +73,15 @@ def main():
             print(f'{c["confidence"]:.3f} {c["label"]:7s} {c["case"]:40s} {c["terms"]}')
     thresholds = [i / 20 for i in range(21)]
     print("| threshold | false poses, target absent | wrong poses, target present | "
-          "found (right pose) | missed |")
-    print("|---:|---:|---:|---:|---:|")
-    for t, fa, na, fw, found, npres in curve(cases, thresholds):
-        print(f"| {t:.2f} | {fa}/{na} | {fw}/{npres} | {found}/{npres} | {npres - found}/{npres} |")
+          "found (right pose) | right among the alternatives | missed |")
+    print("|---:|---:|---:|---:|---:|---:|")
+    for t, fa, na, fw, found, npres, among in curve(cases, thresholds):
+        print(f"| {t:.2f} | {fa}/{na} | {fw}/{npres} | {found}/{npres} | {among}/{npres} | "
+              f"{npres - found}/{npres} |")
     if args.plot:
         fine = sorted({0.0, 1.0} | {c["confidence"] for c in cases})
         with tempfile.NamedTemporaryFile("w", suffix=".dat", delete=False) as dat:
-            for t, fa, na, fw, found, npres in curve(cases, fine):
+            for t, fa, na, fw, found, npres, _ in curve(cases, fine):
                 false_rate = (fa + fw) / max(1, na + npres)
                 miss_rate = (npres - found) / max(1, npres)
                 dat.write(f"{false_rate} {miss_rate} {t}\n")

@@ -16,11 +16,13 @@
 #include <pcl/point_types.h>
 
 #include <Eigen/Geometry>
+#include <Eigen/StdVector>
 
 #include <filesystem>
 #include <limits>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace pcl_icf_tools {
 namespace bench {
@@ -64,6 +66,8 @@ struct MethodRun {
    * other methods and when no hypothesis was verified). */
   double confidence = std::numeric_limits<double>::quiet_NaN();
   std::string verification;
+  /** icf-scene: the poses reported as explaining the depth as well (model -> scene). */
+  std::vector<Eigen::Matrix4f, Eigen::aligned_allocator<Eigen::Matrix4f>> alternative_poses;
 };
 
 /** pcl::IterativeClosestFace with \a params (strategy, fallback, threads). */

@@ -131,7 +131,8 @@ Summary summarize(const std::vector<const Row*>& rows) {
 void writeCasesCsv(const fs::path& file, const std::vector<Row>& rows) {
   std::ofstream csv(file);
   csv << "case,group,method,points,t_err_mm,r_err_deg,r_err_nosym_deg,adds_mm,time_ms,"
-         "success,converged,absent,false_pose,detail,pose_row_major,confidence,verification\n";
+         "success,converged,absent,false_pose,detail,pose_row_major,confidence,verification,"
+         "success_among_alternatives\n";
   csv.precision(6);
   for (const Row& r : rows) {
     csv << csvEscape(r.case_name) << "," << csvEscape(r.group) << "," << r.method << "," << r.points
@@ -151,7 +152,7 @@ void writeCasesCsv(const fs::path& file, const std::vector<Row>& rows) {
     csv << ",";
     if (std::isfinite(r.confidence))
       csv << r.confidence;
-    csv << "," << csvEscape(r.verification) << "\n";
+    csv << "," << csvEscape(r.verification) << "," << r.success_among_alternatives << "\n";
   }
 }
 

@@ -27,6 +27,8 @@ struct Row {
   std::size_t points = 0;
   double t_mm = 0, r_deg = 0, r_nosym_deg = 0, adds_mm = 0, ms = 0;
   bool success = false, converged = false;
+  /** success, or one of the method's reported alternatives is one (icf-scene's ambiguity). */
+  bool success_among_alternatives = false;
   /** A target-absent case (truth=none): no errors are measured and success stays false; the
    * method is right when it says not found (converged false), else the row is a false pose. */
   bool absent = false, false_pose = false;

@@ -78,6 +78,8 @@ MethodRun localize(const pcl::PointCloud<PointT>& scene, const PreparedModel& mo
   if (const seg::ClusterLocalization* top = topCluster(loc)) {
     run.confidence = top->verification.confidence;
     run.verification = verificationTerms(*top);
+    for (const auto& alt : top->alternatives)
+      run.alternative_poses.push_back(alt.object_pose.matrix());
   }
   return run;
 }

@@ -313,6 +313,15 @@ Row measure(const std::string& m, const CaseSpec& c, std::size_t points, const M
   row.r_nosym_deg = strict.rotation_deg;
   row.adds_mm = 1e3 * addS(model, est, c.truth);
   row.success = e.translation <= kSuccessTranslation && e.rotation_deg <= kSuccessRotation;
+  // icf-scene: is the truth among the poses it reported as as good (ambiguity, doc/localizer.md)?
+  row.success_among_alternatives = row.success;
+  for (const Eigen::Matrix4f& alt : run.alternative_poses) {
+    const t::PoseError a = t::poseError(Eigen::Isometry3d(alt.cast<double>()) * c.reference,
+                                        c.truth * c.reference, symmetry);
+    row.success_among_alternatives =
+        row.success_among_alternatives ||
+        (a.translation <= kSuccessTranslation && a.rotation_deg <= kSuccessRotation);
+  }
   return row;
 }
 

@@ -52,7 +52,8 @@ View viewOf(const pcl::PolygonMesh& mesh) {
   return v;
 }
 
-// The box's axes, longest first, are its x, y, z (14 x 9 x 5 cm): 1e-3 in direction.
+// The box's axes, longest first, are its x, y, z (14 x 9 x 5 cm): 1e-3 in direction, its
+// sides to float rounding.
 TEST(PoseAlternatives, PrincipalAxesOfABox) {
   const IcfModel::ConstPtr box = IcfModel::build(test::makeBox(0.14, 0.09, 0.05));
   const PrincipalAxes a = principalAxes(*box);
@@ -61,6 +62,9 @@ TEST(PoseAlternatives, PrincipalAxesOfABox) {
   EXPECT_NEAR(std::abs(a.axes.col(1).y()), 1.f, 1e-3f);
   EXPECT_NEAR(std::abs(a.axes.col(2).z()), 1.f, 1e-3f);
   EXPECT_NEAR(a.axes.determinant(), 1.f, 1e-4f);
+  EXPECT_NEAR(a.extent.x(), 0.14f, 1e-5f);
+  EXPECT_NEAR(a.extent.y(), 0.09f, 1e-5f);
+  EXPECT_NEAR(a.extent.z(), 0.05f, 1e-5f);
 }
 
 // A box's three 180-degree flips explain the depth as well as its pose (within the default

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -29,6 +30,8 @@ void PoseAlternativeParams::validate() const {
     fail("same_rotation_deg", same_rotation_deg, "must lie in [0, 180]");
   if (max_points == 0)
     fail("max_points", 0.0, "must be positive");
+  if (!(quarter_turn_extent_ratio >= 1.f) || !std::isfinite(quarter_turn_extent_ratio))
+    fail("quarter_turn_extent_ratio", quarter_turn_extent_ratio, "must be >= 1 and finite");
   refinement.validate();
   verification.validate();
 }
@@ -55,6 +58,15 @@ PrincipalAxes principalAxes(const IcfModel& model) {
   if (axes.determinant() < 0.0)
     axes.col(2) = -axes.col(2);
   out.axes = axes.cast<float>();
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
+  Eigen::Vector3f hi = -lo;
+  for (std::size_t f = 0; f < mesh.size(); ++f)
+    for (std::size_t k = 0; k < mesh.faces()[f].count; ++k) {
+      const Eigen::Vector3f q = out.axes.transpose() * (mesh.faceVertex(f, k) - out.centre);
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+  out.extent = mesh.size() > 0 ? Eigen::Vector3f(hi - lo) : Eigen::Vector3f::Zero();
   return out;
 }
 
@@ -101,6 +113,10 @@ std::vector<PoseAlternative> turnedAlternatives(
   const float diameter = 2.f * model.radius();
   for (int a = 0; a < 3; ++a)
     for (const float degrees : {90.f, 180.f, 270.f}) {
+      const float e1 = principal.extent[(a + 1) % 3], e2 = principal.extent[(a + 2) % 3];
+      if (degrees != 180.f &&
+          std::max(e1, e2) > params.quarter_turn_extent_ratio * std::min(e1, e2))
+        continue;
       PoseAlternative alt;
       alt.axis = principal.axes.col(a);
       alt.turn_deg = degrees;

@@ -26,6 +26,7 @@ namespace icf {
 struct PrincipalAxes {
   Eigen::Vector3f centre = Eigen::Vector3f::Zero();
   Eigen::Matrix3f axes = Eigen::Matrix3f::Identity();
+  Eigen::Vector3f extent = Eigen::Vector3f::Zero();  ///< the vertices' spread along each axis
 };
 PrincipalAxes principalAxes(const IcfModel& model);
 
@@ -37,6 +38,9 @@ struct PoseAlternativeParams {
   /** A refined turn that lands within these of the found pose is the same pose. */
   float same_translation = 0.005f;  ///< metres, between the model origins
   float same_rotation_deg = 5.f;
+  /** A quarter turn about an axis is tried only when the extents along the other two axes
+   * differ by at most this factor (a quarter turn of a 14 x 9 cm face cannot cover it). */
+  float quarter_turn_extent_ratio = 1.15f;
   /** Points used by each turn's refinement (an evenly strided subset). */
   std::size_t max_points = 3000;
   RefinementParams refinement;
@@ -57,11 +61,12 @@ struct PoseAlternative {
   float rotation_offset_deg = 0.f;
 };
 
-/** \brief Turns the model found at \a object_pose (model -> camera) by 90, 180 and 270 degrees
- * about each principal axis, refines each turn on \a points (camera frame) and verifies it on
- * \a image. Returns the distinct refined poses (not within same_translation / same_rotation
- * of the found one or of each other) whose confidence reaches the found pose's minus
- * confidence_margin, best first (confidence, then the lower residual). Deterministic. */
+/** \brief Turns the model found at \a object_pose (model -> camera) by 180 degrees about each
+ * principal axis, and by 90 and 270 where the other two extents nearly agree, refines each turn on
+ * \a points (camera frame) and verifies it on \a image. Returns the distinct refined poses (not
+ * within same_translation / same_rotation of the found one or of each other) whose confidence
+ * reaches the found pose's minus confidence_margin, best first (confidence, then the lower
+ * residual). Deterministic. */
 std::vector<PoseAlternative> turnedAlternatives(const IcfModel& model,
                                                 const PrincipalAxes& principal,
                                                 const std::vector<Eigen::Vector3f>& points,

@@ -1,0 +1,181 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#pragma once
+
+/** \file
+ * \brief Following known objects over a stream of depth frames (issue 15): the first frame, or
+ * the first after a loss, is searched with the scene-level localizer (localizeObject); every
+ * next frame refines the last pose, moved on by a constant-velocity prediction, with iterative
+ * closest face (refinePose) on the points near the prediction, and verifies it with the same
+ * depth verification and confidence as a single frame (explainDepth, accepted at
+ * LocalizerParams::min_confidence). A refinement that fails the verification falls back to a
+ * search in the same frame; while an object stays lost it is searched again every
+ * search_interval frames. */
+
+#include <pcl/icf/depth_image.h>
+#include <pcl/icf/depth_verification.h>
+#include <pcl/icf/icf_model.h>
+#include <pcl/icf/refinement.h>
+#include <pcl/icf/segmentation/object_localizer.h>
+#include <pcl/point_cloud.h>
+
+#include <Eigen/Geometry>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pcl {
+namespace icf {
+namespace tracking {
+
+/** \brief Where an object stands after a frame. */
+enum class TrackState {
+  Searching,  ///< not found yet: every search so far failed (no pose)
+  Found,      ///< found for the first time by a search this frame
+  Tracking,   ///< refined from the last pose and verified
+  Lost,       ///< was found before, neither the refinement nor a search verified it (no pose)
+  Refound,    ///< found again by a search after a loss, or after a failed refinement
+};
+/** "searching", "found", "tracking", "lost", "re-found". */
+const char* toString(TrackState state);
+
+/** \brief Parameters of ObjectTracker. Lengths in metres (the scene's units). */
+struct TrackerParams {
+  /** RefinementParams' defaults, at most 1500 points per iteration (an evenly strided subset:
+   * a real 640 x 480 frame holds 20k points of a box at 0.6 m; 1500 keep it within 1 mm). */
+  static RefinementParams defaultRefinement() {
+    RefinementParams r;
+    r.max_points = 1500;
+    return r;
+  }
+
+  /** The search (first frame, after a loss) and the verification: its verification,
+   * min_confidence, camera_pose, intrinsics and threads are used by the tracking step too. */
+  segmentation::LocalizerParams localizer;
+  /** The per-frame refinement from the predicted pose. Its first Tukey radius bounds how far
+   * the object may move beyond the constant-velocity prediction between two frames. */
+  RefinementParams refinement = defaultRefinement();
+  /** The refinement sees the points within the model's bounding box (at the predicted pose)
+   * grown by this on every side. */
+  float crop_margin = 0.02f;
+  /** Points within this height of the table (kept from the last search) are not refined
+   * against and are the verification's background. */
+  float table_distance = 0.01f;
+  /** The next pose is predicted from the last two (constant velocity): the last motion of the
+   * model's bounding-box centre and its turn about it, times this gain. 1: the full constant
+   * velocity; 0: the last pose. Below 1, an error the refinement cannot see (the turn of a
+   * can about its axis, a box sliding along its own face) stays bounded instead of growing
+   * frame by frame; 0.5 lags a steady motion by half a frame's move, well within the
+   * refinement's first radius. */
+  float velocity_gain = 0.5f;
+  /** A lost object is searched in every n-th frame only (1: every frame): the search costs
+   * 10-100x a refinement, this bounds its share of the stream's time. */
+  int search_interval = 1;
+
+  /** \throws std::invalid_argument naming the field and value. */
+  void validate() const;
+};
+
+/** \brief One object after one frame. */
+struct ObjectTrack {
+  std::string name;
+  TrackState state = TrackState::Searching;
+  /** Model -> scene (the frame's coordinates); set in Found, Tracking and Refound only. */
+  std::optional<Eigen::Isometry3f> pose;
+  /** The verification's confidence of the pose tried last (0 when none was tried). */
+  double confidence = 0.0;
+  DepthExplanation verification;  ///< of the pose tried last
+  bool refined = false;           ///< a refinement was tried this frame
+  /** The refined pose's confidence (when refined), and why it was not accepted ("" when it
+   * was): a search that follows replaces confidence and message. */
+  double refine_confidence = 0.0;
+  std::string refine_message;
+  bool searched = false;  ///< a search ran this frame
+  int refine_points = 0;  ///< points near the prediction
+  int refine_iterations = 0;
+  double refine_ms = 0.0;  ///< refinement and verification
+  double search_ms = 0.0;
+  int frames_lost = 0;  ///< consecutive frames without a pose since it was last seen
+  std::string message;  ///< why the pose was not accepted ("" when it was)
+};
+
+/** \brief One frame's outcome. */
+struct TrackedFrame {
+  int index = 0;                     ///< 0-based count of frames given to track()
+  std::vector<ObjectTrack> objects;  ///< in the order of addObject
+  double image_ms = 0.0;             ///< the depth image built once per frame
+  double total_ms = 0.0;
+};
+
+/** \brief Follows objects over consecutive frames of one static camera.
+ *
+ * Frames must come in order from the same camera (the table plane and the intrinsics are
+ * kept between frames; a frame of another size fits them again). Deterministic: the same
+ * frames give the same poses (the search is seeded by localizer.icf.seed, the refinement
+ * reduces in a fixed order). Not thread-safe; the models are shared, not copied, and must
+ * outlive the tracker.
+ * \code
+ * pcl::icf::tracking::ObjectTracker tracker;
+ * tracker.addObject(pcl::icf::IcfModel::build(mesh), "box");
+ * for (const auto& frame : frames) {
+ *   const auto out = tracker.track(*frame);
+ *   if (out.objects[0].pose) use(*out.objects[0].pose);
+ * }
+ * \endcode */
+class ObjectTracker {
+ public:
+  /** \throws std::invalid_argument for invalid parameters. */
+  explicit ObjectTracker(const TrackerParams& params = {});
+
+  /** \brief Adds an object to follow; returns its index in TrackedFrame::objects.
+   * \throws std::invalid_argument for a null model. */
+  int addObject(IcfModel::ConstPtr model, const std::string& name);
+
+  /** \brief Starts object \a object from \a model_to_camera (a pose from elsewhere, in the
+   * camera's frame) instead of a search; the next frame refines from it.
+   * \throws std::out_of_range for a bad index, std::invalid_argument for a pose that is not a
+   * rigid motion. */
+  void setPose(int object, const Eigen::Isometry3f& model_to_camera);
+
+  /** \brief Tracks every object in \a frame (metres; camera pose as for localizeObject). */
+  template <typename PointT>
+  TrackedFrame track(const pcl::PointCloud<PointT>& frame);
+
+  /** \brief Forgets every pose (the next frame searches everything again). */
+  void reset();
+
+  const TrackerParams& params() const { return params_; }
+  std::size_t size() const { return objects_.size(); }
+
+ private:
+  struct Object {
+    IcfModel::ConstPtr model;
+    std::string name;
+    bool ever_found = false;
+    std::optional<Eigen::Isometry3f> last;      ///< model -> camera, last accepted
+    std::optional<Eigen::Isometry3f> previous;  ///< the one before, in the frame before
+    int frames_lost = 0;
+  };
+  /** The frame in the camera's frame, as the refinement and verification need it. */
+  struct FrameView;
+
+  template <typename PointT>
+  bool search(const pcl::PointCloud<PointT>& frame, const FrameView& view, Object& object,
+              ObjectTrack& out);
+  bool refine(const FrameView& view, const DepthImage& image, const std::vector<bool>& table,
+              Object& object, ObjectTrack& out) const;
+  DepthImage depthImage(const FrameView& view, std::vector<bool>& table);
+
+  TrackerParams params_;
+  std::vector<Object> objects_;
+  std::optional<Eigen::Vector4f> plane_;  ///< the table in the camera's frame
+  std::optional<PinholeIntrinsics> intrinsics_;
+  int frame_ = 0;
+};
+
+}  // namespace tracking
+}  // namespace icf
+}  // namespace pcl

@@ -1,0 +1,306 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#include <pcl/icf/tracking/object_tracker.h>
+#include <pcl/icf/usable_point.h>
+#include <pcl/point_types.h>
+#include <pcl/icf/segmentation/impl/object_localizer.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace pcl {
+namespace icf {
+namespace tracking {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+/** The localizer's view of the frame (points, colours, image size), moved into the camera's
+ * frame. */
+struct ObjectTracker::FrameView : segmentation::detail::SceneView {
+  Eigen::Isometry3f camera_to_scene = Eigen::Isometry3f::Identity();
+};
+
+const char* toString(TrackState state) {
+  switch (state) {
+    case TrackState::Searching:
+      return "searching";
+    case TrackState::Found:
+      return "found";
+    case TrackState::Tracking:
+      return "tracking";
+    case TrackState::Lost:
+      return "lost";
+    case TrackState::Refound:
+      return "re-found";
+  }
+  return "unknown";
+}
+
+void TrackerParams::validate() const {
+  auto fail = [](const char* field, double value, const char* rule) {
+    std::ostringstream msg;
+    msg << "TrackerParams::" << field << " = " << value << ": " << rule;
+    throw std::invalid_argument(msg.str());
+  };
+  localizer.validate();
+  refinement.validate();
+  if (!(crop_margin >= 0.f) || !std::isfinite(crop_margin))
+    fail("crop_margin", crop_margin, "must be finite and >= 0");
+  if (!(table_distance >= 0.f) || !std::isfinite(table_distance))
+    fail("table_distance", table_distance, "must be finite and >= 0");
+  if (!(velocity_gain >= 0.f && velocity_gain <= 1.f))
+    fail("velocity_gain", velocity_gain, "must lie in [0, 1]");
+  if (search_interval < 1)
+    fail("search_interval", search_interval, "must be >= 1");
+}
+
+ObjectTracker::ObjectTracker(const TrackerParams& params) : params_(params) {
+  params_.validate();
+}
+
+int ObjectTracker::addObject(IcfModel::ConstPtr model, const std::string& name) {
+  if (!model)
+    throw std::invalid_argument("ObjectTracker::addObject: the model of \"" + name + "\" is null");
+  Object o;
+  o.model = std::move(model);
+  o.name = name;
+  objects_.push_back(std::move(o));
+  return static_cast<int>(objects_.size()) - 1;
+}
+
+void ObjectTracker::setPose(int object, const Eigen::Isometry3f& model_to_camera) {
+  if (object < 0 || object >= static_cast<int>(objects_.size()))
+    throw std::out_of_range("ObjectTracker::setPose: no object " + std::to_string(object));
+  segmentation::validateCameraPose(model_to_camera, "ObjectTracker::setPose: the pose");
+  Object& o = objects_[static_cast<std::size_t>(object)];
+  o.last = model_to_camera;
+  o.previous.reset();
+  o.ever_found = true;
+  o.frames_lost = 0;
+}
+
+void ObjectTracker::reset() {
+  for (Object& o : objects_) {
+    o.ever_found = false;
+    o.last.reset();
+    o.previous.reset();
+    o.frames_lost = 0;
+  }
+  plane_.reset();
+  intrinsics_.reset();
+  frame_ = 0;
+}
+
+/** The depth image of the frame (camera frame), intrinsics fitted once per image size as the
+ * localizer does (sceneDepthImage); the points within table_distance of the kept table plane
+ * are background. */
+DepthImage ObjectTracker::depthImage(const FrameView& view, std::vector<bool>& table) {
+  const auto& lp = params_.localizer;
+  if (!intrinsics_ || intrinsics_->width != view.width || intrinsics_->height != view.height ||
+      view.width == 0) {
+    PinholeIntrinsics k;
+    double rms = std::numeric_limits<double>::infinity();
+    if (lp.intrinsics)
+      k = *lp.intrinsics;
+    else if (view.width > 0)
+      k = DepthImage::fitIntrinsics(view.points, view.width, view.height, rms);
+    if (!lp.intrinsics && !(rms < 0.5))
+      k = DepthImage::virtualCamera(view.points, DepthImage::angularSpacing(view.points));
+    intrinsics_ = k;
+  }
+  DepthImage image(view.points, *intrinsics_);
+  table.assign(view.points.size(), false);
+  if (plane_) {
+    std::vector<int> background;
+    for (std::size_t i = 0; i < view.points.size(); ++i) {
+      const Eigen::Vector3f& p = view.points[i];
+      if (isUsablePoint(p) &&
+          std::abs(plane_->head<3>().dot(p) + (*plane_)[3]) < params_.table_distance) {
+        table[i] = true;
+        background.push_back(static_cast<int>(i));
+      }
+    }
+    image.markBackground(view.points, background);
+  }
+  if (!view.colours.empty())
+    image.setColours(view.points, view.colours);
+  return image;
+}
+
+/** One tracking step: the pose predicted by constant velocity, refined on the points near it
+ * (not the table's), verified against the depth image. */
+bool ObjectTracker::refine(const FrameView& view, const DepthImage& image,
+                           const std::vector<bool>& table, Object& object, ObjectTrack& out) const {
+  const auto start = Clock::now();
+  Eigen::Isometry3f predicted = *object.last;
+  if (params_.velocity_gain > 0.f && object.previous) {
+    // The last motion of the model's box centre and its turn about it, times velocity_gain.
+    const Eigen::Vector3f centre =
+        0.5f * (object.model->mesh().boundsMin() + object.model->mesh().boundsMax());
+    const Eigen::Vector3f c_last = *object.last * centre;
+    const Eigen::Vector3f c_prev = *object.previous * centre;
+    Eigen::AngleAxisf turn(object.last->linear() * object.previous->linear().transpose());
+    turn.angle() *= params_.velocity_gain;
+    predicted.linear() = turn.toRotationMatrix() * object.last->linear();
+    const Eigen::Vector3f c_pred = c_last + params_.velocity_gain * (c_last - c_prev);
+    predicted.translation() = c_pred - predicted.linear() * centre;
+  }
+  // The points inside the model's bounding box at the predicted pose, grown by crop_margin
+  // (tighter than a sphere beside a neighbour: a tall cup's sphere reaches a box beside it).
+  const Eigen::Isometry3f to_model = predicted.inverse();
+  const Eigen::Vector3f lo =
+      object.model->mesh().boundsMin() - Eigen::Vector3f::Constant(params_.crop_margin);
+  const Eigen::Vector3f hi =
+      object.model->mesh().boundsMax() + Eigen::Vector3f::Constant(params_.crop_margin);
+  std::vector<Eigen::Vector3f> near;
+  for (std::size_t i = 0; i < view.points.size(); ++i) {
+    const Eigen::Vector3f& p = view.points[i];
+    if (table[i] || !isUsablePoint(p))
+      continue;
+    const Eigen::Vector3f x = to_model * p;
+    if ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all())
+      near.push_back(p);
+  }
+  out.refined = true;
+  out.refine_points = static_cast<int>(near.size());
+  if (near.size() < 10) {
+    out.message = "too few points near the predicted pose (" + std::to_string(near.size()) + ")";
+    out.refine_message = out.message;
+    out.refine_ms = msSince(start);
+    return false;
+  }
+  const int threads = params_.localizer.threads > 0 ? params_.localizer.threads : 1;
+  const RefinementResult r =
+      refinePose(object.model->index(), near, predicted.inverse(), params_.refinement, threads);
+  out.refine_iterations = r.iterations;
+  const Eigen::Isometry3f pose = r.scene_to_model.inverse();
+  out.verification = explainDepth(*object.model, pose, image, params_.localizer.verification);
+  out.confidence = out.verification.confidence;
+  out.refine_confidence = out.confidence;
+  out.refine_ms = msSince(start);
+  if (out.confidence < params_.localizer.min_confidence) {
+    std::ostringstream msg;
+    msg << "the refined pose's confidence " << out.confidence << " is below "
+        << params_.localizer.min_confidence << " (" << 100.0 * out.verification.visible_support
+        << "% of the visible model explained, " << 100.0 * out.verification.silhouette_continuation
+        << "% of its silhouette continues)";
+    out.message = msg.str();
+    out.refine_message = out.message;
+    return false;
+  }
+  object.previous = object.last;
+  object.last = pose;
+  out.message.clear();
+  return true;
+}
+
+template <typename PointT>
+bool ObjectTracker::search(const pcl::PointCloud<PointT>& frame, const FrameView& view,
+                           Object& object, ObjectTrack& out) {
+  const auto start = Clock::now();
+  out.searched = true;
+  const segmentation::Localization loc =
+      segmentation::localizeObject(frame, *object.model, params_.localizer);
+  out.search_ms = msSince(start);
+  const Eigen::Isometry3f scene_to_camera = view.camera_to_scene.inverse(Eigen::Isometry);
+  if (loc.segmentation.plane.found()) {
+    const Eigen::Vector4f& s = loc.segmentation.plane.coefficients;
+    Eigen::Vector4f c;
+    c.head<3>() = view.camera_to_scene.linear().transpose() * s.head<3>();
+    c[3] = s.head<3>().dot(view.camera_to_scene.translation()) + s[3];
+    plane_ = c;
+  }
+  if (loc.best < 0) {
+    out.message = loc.message.empty() ? segmentation::toString(loc.status) : loc.message;
+    return false;
+  }
+  const auto& best = loc.clusters[static_cast<std::size_t>(loc.best)];
+  out.verification = best.verification;
+  out.confidence = best.verification.confidence;
+  object.previous.reset();
+  object.last = scene_to_camera * best.icf.object_pose;
+  out.message.clear();
+  return true;
+}
+
+template <typename PointT>
+TrackedFrame ObjectTracker::track(const pcl::PointCloud<PointT>& frame) {
+  const auto start = Clock::now();
+  TrackedFrame result;
+  result.index = frame_++;
+  FrameView view;
+  static_cast<segmentation::detail::SceneView&>(view) = segmentation::detail::makeSceneView(frame);
+  view.camera_to_scene = segmentation::cameraPoseOf(frame, params_.localizer);
+  segmentation::validateCameraPose(view.camera_to_scene, "camera pose");
+  const Eigen::Isometry3f scene_to_camera = view.camera_to_scene.inverse(Eigen::Isometry);
+  if (!scene_to_camera.matrix().isIdentity(0.f))
+    for (Eigen::Vector3f& p : view.points)
+      p = scene_to_camera * p;
+
+  const bool any_tracked = std::any_of(objects_.begin(), objects_.end(),
+                                       [](const Object& o) { return o.last.has_value(); });
+  std::vector<bool> table;
+  DepthImage image;
+  if (any_tracked) {
+    const auto image_start = Clock::now();
+    image = depthImage(view, table);
+    result.image_ms = msSince(image_start);
+  }
+
+  for (Object& object : objects_) {
+    ObjectTrack out;
+    out.name = object.name;
+    bool ok = false;
+    bool by_search = false;
+    const bool was_tracked = object.last.has_value();
+    if (was_tracked)
+      ok = refine(view, image, table, object, out);
+    // A failed refinement searches at once (occlusion, a fast move); a lost object every
+    // search_interval frames.
+    if (!ok && (was_tracked || object.frames_lost % params_.search_interval == 0)) {
+      ok = search(frame, view, object, out);
+      by_search = ok;
+    }
+    if (ok) {
+      out.state = !by_search            ? TrackState::Tracking
+                  : (object.ever_found) ? TrackState::Refound
+                                        : TrackState::Found;
+      object.ever_found = true;
+      object.frames_lost = 0;
+      out.pose = view.camera_to_scene * *object.last;
+    } else {
+      object.last.reset();
+      object.previous.reset();
+      out.state = object.ever_found ? TrackState::Lost : TrackState::Searching;
+      ++object.frames_lost;
+    }
+    out.frames_lost = object.frames_lost;
+    result.objects.push_back(std::move(out));
+  }
+  result.total_ms = msSince(start);
+  return result;
+}
+
+template TrackedFrame ObjectTracker::track<pcl::PointXYZ>(const pcl::PointCloud<pcl::PointXYZ>&);
+template TrackedFrame ObjectTracker::track<pcl::PointXYZRGB>(
+    const pcl::PointCloud<pcl::PointXYZRGB>&);
+template TrackedFrame ObjectTracker::track<pcl::PointXYZRGBA>(
+    const pcl::PointCloud<pcl::PointXYZRGBA>&);
+
+}  // namespace tracking
+}  // namespace icf
+}  // namespace pcl

@@ -223,6 +223,34 @@ TEST(Localizer, BadCameraPosesAreRefused) {
   EXPECT_NE(r.message.find("behind the camera"), std::string::npos) << r.message;
 }
 
+// The same table top with the camera mirrored below the table (looking up at it): the box
+// stands on the table's far side from that camera, hidden from it by the table top, so the
+// camera pose must be wrong: BadScene naming the table's side, never "not found".
+TEST(Localizer, ACameraBelowTheTableIsRefused) {
+  const test::SyntheticModel box = test::thesisModel("Box5");
+  test::ScanNoise noise;
+  noise.outlier_ratio = 0.0;
+  const test::TabletopScene scene =
+      test::makeTabletopScene({box}, {{0.0, 0.0, 0.4}}, test::CameraIntrinsics(), noise);
+  const IcfModel::ConstPtr model = IcfModel::build(box.mesh);
+  const Eigen::Vector3f n = scene.table_plane.head<3>();
+  const Eigen::Vector3f below = -2.f * scene.table_plane[3] * n;  // the origin mirrored
+  const Eigen::Vector3f forward =
+      (scene.table_to_camera.translation().cast<float>() - below).normalized();
+  Eigen::Matrix3f r;
+  r.col(2) = forward;
+  r.col(0) = forward.unitOrthogonal();
+  r.col(1) = r.col(2).cross(r.col(0));
+  LocalizerParams params;
+  params.camera_pose = Eigen::Translation3f(below) * Eigen::Isometry3f(r);
+  const auto result = segmentation::localizeObject(*scene.scan.cloud, *model, params);
+  EXPECT_EQ(result.status, LocalizationStatus::BadScene) << result.message;
+  EXPECT_NE(result.message.find("wrong side of the table"), std::string::npos) << result.message;
+  // The right camera finds the box.
+  EXPECT_EQ(segmentation::localizeObject(*scene.scan.cloud, *model).status,
+            LocalizationStatus::Found);
+}
+
 // A small neighbour touching the target: one Euclidean cluster in which the neighbour holds a
 // few per cent of the points, too few to move the 90th-percentile spread around the robust
 // centroid, so the cluster may count as a single object; the target must still be found at

@@ -405,6 +405,40 @@ DepthImage sceneDepthImage(const SceneView& view, const pcl::Indices& table,
   return image;
 }
 
+/** Points at object heights (above_table.min_height to max_height) on the table's far side
+ * from the camera and over the table (inside its inliers' extent on the plane, shrunk by a
+ * tenth): an opaque table top hides them from a camera above it, so many of them, and nothing
+ * on the camera's side, is a camera placed below the table. */
+std::size_t pointsBeyondTheTable(const SceneView& view, const TabletopSegmentation& segmentation,
+                                 const LocalizerParams& params) {
+  const Eigen::Vector4f& plane = segmentation.plane.coefficients;
+  const Eigen::Vector3f n = plane.head<3>();
+  if (n.isZero(0.f) || segmentation.plane.inliers.empty())
+    return 0;
+  const Eigen::Vector3f e1 = n.unitOrthogonal(), e2 = n.cross(e1);
+  Eigen::Vector2f lo = Eigen::Vector2f::Constant(std::numeric_limits<float>::max()), hi = -lo;
+  for (const auto i : segmentation.plane.inliers) {
+    const Eigen::Vector3f& p = view.points[static_cast<std::size_t>(i)];
+    const Eigen::Vector2f q(e1.dot(p), e2.dot(p));
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  const Eigen::Vector2f margin = 0.1f * (hi - lo);
+  lo += margin;
+  hi -= margin;
+  const auto& heights = params.segmentation.above_table;
+  std::size_t beyond = 0;
+  for (const auto& p : view.points) {
+    if (!isUsablePoint(p))
+      continue;
+    const double depth = -(n.dot(p) + plane[3]);
+    const Eigen::Vector2f q(e1.dot(p), e2.dot(p));
+    beyond += depth > heights.min_height && depth < heights.max_height &&
+              (q.array() >= lo.array()).all() && (q.array() <= hi.array()).all();
+  }
+  return beyond;
+}
+
 /** The global search's merged-cluster test (spreadsWiderThanModel) on one cluster; clusters
  * of fewer than 10 points count as single. */
 bool clusterLooksMerged(const SceneView& view, const pcl::PointIndices& cluster,
@@ -469,6 +503,18 @@ Localization localizeInView(const SceneView& view, TabletopSegmentation segmenta
       out.status = bad ? LocalizationStatus::BadScene : LocalizationStatus::NoClusters;
       out.message = std::string(toString(status)) +
                     (segmentation.message.empty() ? "" : ": " + segmentation.message);
+      if (status == TabletopStatus::NoCluster) {
+        const std::size_t beyond = pointsBeyondTheTable(view, segmentation, params);
+        if (beyond >= params.segmentation.cluster.min_size) {
+          out.status = LocalizationStatus::BadScene;
+          out.message =
+              "the camera is on the wrong side of the table: nothing stands on its "
+              "side, " +
+              std::to_string(beyond) +
+              " points stand on the other (check the camera pose: --camera, or the "
+              "cloud's VIEWPOINT)";
+        }
+      }
       out.segmentation = std::move(segmentation);
       out.total_ms = segmentation_ms;
       return out;

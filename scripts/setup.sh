@@ -10,6 +10,7 @@ PACKAGES=(
   clang clang-format libclang-rt-14-dev libomp-14-dev
   xvfb xauth gnuplot-nox
   nlohmann-json3-dev
+  python3-dev python3-pybind11 python3-numpy python3-pytest
 )
 
 missing=()

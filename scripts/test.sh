@@ -8,7 +8,8 @@ cd "$(dirname "$0")/.."
 scripts/setup.sh
 JOBS=${JOBS:-$(nproc)}
 
-cmake --preset release >/dev/null
+# PCL_ICF_PYTHON: the Python module and its pytest suite (ctest runs it), release build only.
+cmake --preset release -DPCL_ICF_PYTHON=ON >/dev/null
 cmake --build --preset release -j "$JOBS"
 ctest --preset release -j "$JOBS"
 

@@ -1,0 +1,202 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#include "params.h"
+
+#include <pybind11/stl.h>
+
+#include <functional>
+#include <map>
+#include <stdexcept>
+#include <string>
+
+namespace pcl_icf_python {
+
+namespace seg = pcl::icf::segmentation;
+
+namespace {
+
+template <typename Params>
+struct Field {
+  std::function<void(Params&, const py::handle&)> set;
+  std::function<py::object(const Params&)> get;
+};
+
+template <typename Params>
+using FieldTable = std::map<std::string, Field<Params>>;
+
+/** A plain member reached through \a access (a lambda returning a reference). */
+template <typename Params, typename T, typename Access>
+Field<Params> member(Access access) {
+  return {[access](Params& p, const py::handle& v) { access(p) = v.cast<T>(); },
+          [access](const Params& p) { return py::cast(access(const_cast<Params&>(p))); }};
+}
+
+#define PCL_ICF_FIELD(Params, T, expr) member<Params, T>([](Params& p) -> T& { return p.expr; })
+
+FieldTable<pcl::icf::IcfParams> icfTable() {
+  using P = pcl::icf::IcfParams;
+  FieldTable<P> t;
+  t["seed"] = PCL_ICF_FIELD(P, std::uint64_t, seed);
+  t["threads"] = PCL_ICF_FIELD(P, int, threads);
+  t["exact_candidates"] = PCL_ICF_FIELD(P, std::size_t, exact_candidates);
+  t["candidate_points"] = PCL_ICF_FIELD(P, std::size_t, candidate_points);
+  t["inlier_distance"] = PCL_ICF_FIELD(P, float, acceptance.inlier_distance);
+  t["min_surface_coverage"] = PCL_ICF_FIELD(P, double, acceptance.min_surface_coverage);
+  t["max_rmse"] = PCL_ICF_FIELD(P, double, acceptance.max_rmse);
+  t["min_inliers"] = PCL_ICF_FIELD(P, std::size_t, acceptance.min_inliers);
+  t["strategy"] = {[](P& p, const py::handle& v) {
+                     p.strategy = pcl::icf::parseSearchStrategy(v.cast<std::string>());
+                   },
+                   [](const P& p) { return py::cast(pcl::icf::toString(p.strategy)); }};
+  t["fallback"] = {[](P& p, const py::handle& v) {
+                     p.fallback = pcl::icf::parseFallbackPolicy(v.cast<std::string>());
+                   },
+                   [](const P& p) { return py::cast(pcl::icf::toString(p.fallback)); }};
+  return t;
+}
+
+pcl::icf::PinholeIntrinsics intrinsicsOf(const py::handle& v) {
+  pcl::icf::PinholeIntrinsics k;
+  if (!py::isinstance<py::dict>(v))
+    throw py::value_error("intrinsics: expected a dict with fx, fy, cx, cy, width, height");
+  for (const auto& item : v.cast<py::dict>()) {
+    const auto key = item.first.cast<std::string>();
+    if (key == "fx")
+      k.fx = item.second.cast<float>();
+    else if (key == "fy")
+      k.fy = item.second.cast<float>();
+    else if (key == "cx")
+      k.cx = item.second.cast<float>();
+    else if (key == "cy")
+      k.cy = item.second.cast<float>();
+    else if (key == "width")
+      k.width = item.second.cast<int>();
+    else if (key == "height")
+      k.height = item.second.cast<int>();
+    else
+      throw py::value_error("intrinsics: unknown key '" + key +
+                            "' (expected fx, fy, cx, cy, width, height)");
+  }
+  return k;
+}
+
+FieldTable<seg::LocalizerParams> localizerTable() {
+  using P = seg::LocalizerParams;
+  FieldTable<P> t;
+  for (auto& [name, field] : icfTable())
+    t[name] = {[set = field.set](P& p, const py::handle& v) { set(p.icf, v); },
+               [get = field.get](const P& p) { return get(p.icf); }};
+  // As the tool's --threads: both levels.
+  t["threads"] = {[](P& p, const py::handle& v) { p.threads = p.icf.threads = v.cast<int>(); },
+                  [](const P& p) { return py::cast(p.threads); }};
+  t["segment"] = PCL_ICF_FIELD(P, bool, segment);
+  t["min_confidence"] = PCL_ICF_FIELD(P, double, min_confidence);
+  t["max_instances"] = PCL_ICF_FIELD(P, int, max_instances);
+  t["max_shared_points"] = PCL_ICF_FIELD(P, double, max_shared_points);
+  t["min_points_in_front"] = PCL_ICF_FIELD(P, double, min_points_in_front);
+  t["thesis_gate"] = PCL_ICF_FIELD(P, bool, thesis_gate);
+  t["gate_distance"] = PCL_ICF_FIELD(P, float, gate_distance);
+  t["gate_max_far_points"] = PCL_ICF_FIELD(P, int, gate_max_far_points);
+  t["gate_max_far_fraction"] = PCL_ICF_FIELD(P, double, gate_max_far_fraction);
+  t["split_merged"] = PCL_ICF_FIELD(P, bool, split_merged);
+  t["check_turns"] = PCL_ICF_FIELD(P, bool, check_turns);
+  t["cluster_tolerance"] = PCL_ICF_FIELD(P, double, segmentation.cluster.tolerance);
+  t["min_cluster_size"] = PCL_ICF_FIELD(P, std::size_t, segmentation.cluster.min_size);
+  t["max_cluster_size"] = PCL_ICF_FIELD(P, std::size_t, segmentation.cluster.max_size);
+  t["colour_weight"] = PCL_ICF_FIELD(P, double, colour.weight);
+  t["colour"] = {[](P& p, const py::handle& v) {
+                   if (v.is_none()) {
+                     p.colour.expected.reset();
+                     return;
+                   }
+                   const auto c = v.cast<std::vector<float>>();
+                   if (c.size() != 3)
+                     throw py::value_error("colour: expected (r, g, b) in [0, 1] or None");
+                   p.colour.expected = Eigen::Vector3f(c[0], c[1], c[2]);
+                 },
+                 [](const P& p) {
+                   return p.colour.expected
+                              ? py::cast(std::vector<float>(p.colour.expected->data(),
+                                                            p.colour.expected->data() + 3))
+                              : py::none().cast<py::object>();
+                 }};
+  t["intrinsics"] = {[](P& p, const py::handle& v) {
+                       if (v.is_none())
+                         p.intrinsics.reset();
+                       else
+                         p.intrinsics = intrinsicsOf(v);
+                     },
+                     [](const P& p) {
+                       if (!p.intrinsics)
+                         return py::none().cast<py::object>();
+                       const auto& k = *p.intrinsics;
+                       return py::dict(py::arg("fx") = k.fx, py::arg("fy") = k.fy,
+                                       py::arg("cx") = k.cx, py::arg("cy") = k.cy,
+                                       py::arg("width") = k.width, py::arg("height") = k.height)
+                           .cast<py::object>();
+                     }};
+  return t;
+}
+
+#undef PCL_ICF_FIELD
+
+template <typename Params>
+void apply(const FieldTable<Params>& table, Params& params, const py::kwargs& kwargs,
+           const char* function) {
+  for (const auto& item : kwargs) {
+    const auto name = item.first.cast<std::string>();
+    const auto field = table.find(name);
+    if (field == table.end())
+      throw py::type_error(std::string(function) + "() got an unexpected keyword argument '" +
+                           name + "'");
+    try {
+      field->second.set(params, item.second);
+    } catch (const py::cast_error&) {
+      throw py::type_error(name + ": cannot take " + py::repr(item.second).cast<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw py::value_error(name + ": " + e.what());
+    }
+  }
+  params.validate();
+}
+
+template <typename Params>
+py::dict defaults(const FieldTable<Params>& table) {
+  const Params params;
+  py::dict d;
+  for (const auto& [name, field] : table)
+    d[py::str(name)] = field.get(params);
+  return d;
+}
+
+const FieldTable<seg::LocalizerParams>& localizerFields() {
+  static const auto table = localizerTable();
+  return table;
+}
+
+const FieldTable<pcl::icf::IcfParams>& icfFields() {
+  static const auto table = icfTable();
+  return table;
+}
+
+}  // namespace
+
+void applyLocalizerKwargs(seg::LocalizerParams& params, const py::kwargs& kwargs) {
+  apply(localizerFields(), params, kwargs, "localize");
+}
+
+void applyIcfKwargs(pcl::icf::IcfParams& params, const py::kwargs& kwargs) {
+  apply(icfFields(), params, kwargs, "estimate_pose");
+}
+
+py::dict localizerDefaults() {
+  return defaults(localizerFields());
+}
+
+py::dict icfDefaults() {
+  return defaults(icfFields());
+}
+
+}  // namespace pcl_icf_python

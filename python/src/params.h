@@ -1,0 +1,32 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+#include <pcl/icf/estimate_pose.h>
+#include <pcl/icf/segmentation/object_localizer.h>
+
+namespace pcl_icf_python {
+
+namespace py = pybind11;
+
+/** \brief Applies keyword arguments to \a params (names in python/README: the LocalizerParams
+ * fields, the tool's shortcuts for nested ones), then params.validate().
+ * \throws py::type_error for an unknown name, std::invalid_argument (ValueError) from
+ * validate(). */
+void applyLocalizerKwargs(pcl::icf::segmentation::LocalizerParams& params,
+                          const py::kwargs& kwargs);
+
+/** \brief The same for estimatePose's IcfParams (the icf subset of the names). */
+void applyIcfKwargs(pcl::icf::IcfParams& params, const py::kwargs& kwargs);
+
+/** \brief Every keyword localize() takes, with its C++ default. */
+py::dict localizerDefaults();
+
+/** \brief Every keyword estimate_pose() takes, with its C++ default. */
+py::dict icfDefaults();
+
+}  // namespace pcl_icf_python

@@ -1,0 +1,86 @@
+"""localize() gives the C++ tool's answers (pcl_icf_tool --json) to 1e-6."""
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import pcl_icf
+from conftest import DEMO, SHARED, require
+
+
+def tool_json(tool, tmp_path, scene, model, *options):
+    out = tmp_path / "result.json"
+    subprocess.run([tool, str(scene), str(model), "--json", str(out), "--force", "--quiet",
+                    *options], check=False)
+    return json.loads(out.read_text())
+
+
+def assert_same(result, expected):
+    assert result.status == expected["status"]
+    assert len(result.clusters) == len(expected["clusters"])
+    assert len(result.instances) == len(expected["instances"])
+    for got, want in zip(result.instances, expected["instances"]):
+        assert got.cluster == want["cluster"]
+        np.testing.assert_allclose(got.pose, np.array(want["pose"]), rtol=0, atol=1e-6)
+        assert got.confidence == pytest.approx(want["confidence"], abs=1e-9)
+        assert got.accepted == want["accepted"]
+        assert got.method == want["method"]
+        assert got.verification["supported"] == pytest.approx(
+            want["verification"]["supported"], abs=1e-9)
+        assert len(got.alternatives) == len(want["alternatives"])
+
+
+def test_bundled_scene(tool, tmp_path, box_model, demo_scene):
+    expected = tool_json(tool, tmp_path, DEMO / "tabletop_box5.pcd", DEMO / "box5.ply")
+    result = pcl_icf.localize(demo_scene.xyz, demo_scene.rgb, box_model,
+                              camera=demo_scene.camera_pose)
+    assert result.found
+    assert_same(result, expected)
+    assert result.best is result.instances[0]
+    assert result.best.pose.shape == (4, 4)
+    assert result.timing["total_ms"] > 0
+
+
+def test_bundled_scene_copies_and_float64_give_the_same(box_model, demo_scene):
+    view = pcl_icf.localize(demo_scene.xyz, demo_scene.rgb, box_model)
+    copy = pcl_icf.localize(np.array(demo_scene.xyz, dtype=np.float64),
+                            rgb=np.ascontiguousarray(demo_scene.rgb), model=box_model)
+    np.testing.assert_array_equal(view.best.pose, copy.best.pose)
+
+
+def test_model_from_arrays_is_the_file(box_model, demo_scene):
+    lines = (DEMO / "box5.ply").read_text().splitlines()
+    start = lines.index("end_header") + 1
+    vertices = np.array([[float(v) for v in line.split()] for line in lines[start:start + 24]])
+    faces = np.array([[int(v) for v in line.split()[1:]] for line in lines[start + 24:start + 30]])
+    model = pcl_icf.Model(vertices, faces)
+    assert model.faces == box_model.faces
+    a = pcl_icf.localize(demo_scene.xyz, demo_scene.rgb, model)
+    b = pcl_icf.localize(demo_scene.xyz, demo_scene.rgb, box_model)
+    np.testing.assert_allclose(a.best.pose, b.best.pose, atol=1e-6)
+
+
+def test_estimate_pose_on_the_bundled_cluster(box_model):
+    cluster = pcl_icf.load_scene(str(DEMO / "box5_cluster.pcd"))
+    truth = np.loadtxt(DEMO / "box5_truth.txt")
+    r = pcl_icf.estimate_pose(cluster.xyz, box_model)
+    assert r.accepted, r.status
+    assert np.linalg.norm(r.pose[:3, 3] - truth[:3, 3]) < 0.005
+    refined = pcl_icf.estimate_pose(cluster.xyz, box_model, guess=r.pose)
+    assert refined.method == "guess+icf"
+    assert np.linalg.norm(refined.pose[:3, 3] - truth[:3, 3]) < 0.005
+
+
+YCBV = SHARED / "ycbv-video0000"
+
+
+def test_ycbv_frame(tool, tmp_path):
+    require(YCBV.is_dir(), f"{YCBV} not present")
+    scene = YCBV / "scenes" / "ycbv0000_000002.pcd"
+    mesh = YCBV / "models" / "ycb_009_gelatin_box.ply"
+    expected = tool_json(tool, tmp_path, scene, mesh)
+    loaded = pcl_icf.load_scene(str(scene))
+    result = pcl_icf.localize(loaded.xyz, loaded.rgb, pcl_icf.Model.from_file(str(mesh)),
+                              camera=loaded.camera_pose)
+    assert_same(result, expected)

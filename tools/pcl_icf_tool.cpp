@@ -16,6 +16,7 @@
 #include "tool_render.h"
 #include "tool_results.h"
 #include "tool_run.h"
+#include "tool_track.h"
 
 #include <pcl/console/print.h>
 #include <pcl/icf/io/mesh_io.h>
@@ -123,6 +124,8 @@ int main(int argc, char** argv) {
           "--view needs a display (DISPLAY is unset or cannot be opened); "
           "use --render FILE.png to get a picture without one");
     // Refuse what we would refuse before spending time on Xvfb or the search.
+    if (!options.track.empty())
+      return runTrack(options);
     if (options.batch.empty())
       checkSingleOutputs(options);
     const std::string display = pcl_icf_tool::ensureDisplayOrReexec(argc, argv, render);

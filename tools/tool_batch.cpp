@@ -31,7 +31,9 @@ bool isSceneFile(const fs::path& p) {
   return ext == "pcd" || ext == "ply" || ext == "xyz" || ext == "asc";
 }
 
-std::vector<std::string> listScenes(const std::string& source) {
+}  // namespace
+
+std::vector<std::string> listScenes(const std::string& source, const std::string& option) {
   std::vector<std::string> scenes;
   std::error_code ec;
   if (fs::is_directory(source, ec)) {
@@ -46,7 +48,7 @@ std::vector<std::string> listScenes(const std::string& source) {
   try {
     pcl::icf::io::requireReadableFile(source);
   } catch (const pcl::icf::io::FileError& e) {
-    throw BadInput(std::string(e.what()) + " (--batch takes a directory or a list file)");
+    throw BadInput(std::string(e.what()) + " (" + option + " takes a directory or a list file)");
   }
   std::ifstream in(source);
   const fs::path base = fs::path(source).parent_path();
@@ -69,6 +71,8 @@ std::vector<std::string> listScenes(const std::string& source) {
     throw BadInput(source + ": the list names no scene");
   return scenes;
 }
+
+namespace {
 
 /** Output base names: the scene's stem, or its file name where stems collide, made unique. */
 std::vector<std::string> outputNames(const std::vector<std::string>& scenes) {
@@ -214,7 +218,7 @@ SceneOutcome runScene(std::size_t i, const std::string& scene_path, const Model&
 int runBatch(const ToolOptions& options) {
   const auto start = Clock::now();
   const bool quiet = options.quiet;
-  const std::vector<std::string> scenes = listScenes(options.batch);
+  const std::vector<std::string> scenes = listScenes(options.batch, "--batch");
   const BatchOutputs out = prepareOutputs(options, scenes);
   const Model model = loadModel(options.model, options.model_units, quiet);
 

@@ -10,7 +10,15 @@
 
 #include "tool_options.h"
 
+#include <string>
+#include <vector>
+
 namespace pcl_icf_tool {
+
+/** The scene files of \a source: a directory's .pcd, .ply, .xyz and .asc files in name order,
+ * or the paths a list file names (one a line, '#' comments, relative to its folder).
+ * \throws BadInput naming \a option for an empty directory, an unreadable or empty list. */
+std::vector<std::string> listScenes(const std::string& source, const std::string& option);
 
 /** Runs the batch; returns the exit code (2 when a scene was unreadable, else 1 when one had
  * no accepted pose, else 0). \throws BadInput, OutputError before any work for a bad list or

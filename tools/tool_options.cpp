@@ -283,6 +283,8 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
       o.verbose = true;
     } else if (a == "--batch")
       o.batch = args.value(a);
+    else if (a == "--track")
+      o.track = args.value(a);
     else if (a == "--out-dir")
       o.out_dir = args.value(a);
     else if (a == "--render-all") {
@@ -297,7 +299,12 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
       positional.push_back(a);
   }
 
-  if (!o.batch.empty()) {
+  if (!o.track.empty()) {
+    if (positional.empty() || !o.batch.empty() || !o.out_dir.empty() || !o.json.empty() ||
+        !o.output.empty() || !o.render.empty() || o.view || o.render_all || o.output_all)
+      throw UsageError("--track FRAMES takes one or more MODELs and no other input or output");
+    o.models = positional;
+  } else if (!o.batch.empty()) {
     if (positional.size() != 1)
       throw UsageError("--batch SCENES takes exactly one MODEL argument, got " +
                        std::to_string(positional.size()));
@@ -400,6 +407,9 @@ std::string usageText(const std::string& program) {
     << "    --out-dir DIR            = writes DIR/<scene>.json for each, and DIR/summary.json\n"
     << "    --render-all             = also DIR/<scene>.png\n"
     << "    --output-all             = also DIR/<scene>.ply for each pose found\n"
+    << "  Tracking (" << program << " --track FRAMES MODEL...):\n"
+    << "    --track FRAMES           = follow every MODEL over a directory or list of frames;\n"
+    << "                               one JSON line per frame on stdout\n"
     << "\n"
     << "Exit status: 0 object found, 1 nothing accepted, 2 bad usage or bad input.\n"
     << "In batch mode: 2 if any scene could not be read, else 1 if any scene had no object.\n";

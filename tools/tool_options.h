@@ -42,9 +42,13 @@ struct ToolOptions {
   /** --batch SCENES: a directory (every .pcd, .ply, .xyz, .asc in it, sorted) or a text file
    * listing scene paths (one a line, '#' comments, relative to the list's folder). */
   std::string batch;
-  std::string out_dir;      ///< --out-dir (batch)
-  bool render_all = false;  ///< --render-all (batch): DIR/<scene>.png for every scene
-  bool output_all = false;  ///< --output-all (batch): DIR/<scene>.ply for every found pose
+  std::string out_dir;  ///< --out-dir (batch)
+  /** --track FRAMES: a directory of frames (name order) or a list file, as --batch; every
+   * positional argument is a MODEL to follow (tool_track). */
+  std::string track;
+  std::vector<std::string> models;  ///< --track's MODELs
+  bool render_all = false;          ///< --render-all (batch): DIR/<scene>.png for every scene
+  bool output_all = false;          ///< --output-all (batch): DIR/<scene>.ply for every found pose
 
   /** --camera: the camera's pose in the scene's frame, translation in the scene's units
    * (unset: the file's VIEWPOINT, the camera's frame by default). */

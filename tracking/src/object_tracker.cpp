@@ -187,11 +187,13 @@ bool ObjectTracker::refine(const FrameView& view, const DepthImage& image,
   const RefinementResult r =
       refinePose(object.model->index(), near, predicted.inverse(), params_.refinement, threads);
   out.refine_iterations = r.iterations;
+  out.refine_ms = msSince(start);
+  const auto verify_start = Clock::now();
   const Eigen::Isometry3f pose = r.scene_to_model.inverse();
   out.verification = explainDepth(*object.model, pose, image, params_.localizer.verification);
   out.confidence = out.verification.confidence;
   out.refine_confidence = out.confidence;
-  out.refine_ms = msSince(start);
+  out.verify_ms = msSince(verify_start);
   if (out.confidence < params_.localizer.min_confidence) {
     std::ostringstream msg;
     msg << "the refined pose's confidence " << out.confidence << " is below "

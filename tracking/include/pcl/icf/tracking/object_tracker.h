@@ -96,7 +96,8 @@ struct ObjectTrack {
   bool searched = false;  ///< a search ran this frame
   int refine_points = 0;  ///< points near the prediction
   int refine_iterations = 0;
-  double refine_ms = 0.0;  ///< refinement and verification
+  double refine_ms = 0.0;  ///< the crop and the refinement (iterative closest face)
+  double verify_ms = 0.0;  ///< the refined pose's verification (explainDepth)
   double search_ms = 0.0;
   int frames_lost = 0;  ///< consecutive frames without a pose since it was last seen
   std::string message;  ///< why the pose was not accepted ("" when it was)

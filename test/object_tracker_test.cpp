@@ -115,6 +115,30 @@ TEST(ObjectTracker, SyntheticSequenceMovedRemovedAndPutBack) {
   EXPECT_LT(refound_at, kBackAt + 5) << "re-found within 5 frames";
 }
 
+// Deterministic: two trackers (one on both cores) fed the same frames report the same poses,
+// bit for bit.
+TEST(ObjectTracker, SameFramesSamePoses) {
+  const test::SyntheticModel box = test::thesisModel("Box5");
+  const IcfModel::ConstPtr model = IcfModel::build(box.mesh);
+  pcl::icf::tracking::TrackerParams one, all;
+  one.localizer.threads = 1;
+  all.localizer.threads = 0;
+  ObjectTracker a(one), b(all);
+  a.addObject(model, "Box5");
+  b.addObject(model, "Box5");
+  test::ScanNoise noise;
+  noise.outlier_ratio = 0.0;
+  for (int f = 0; f < 3; ++f) {
+    noise.seed = 200 + static_cast<std::uint64_t>(f);
+    const test::TabletopScene scene =
+        test::makeTabletopScene({box}, {boxPlacement(f)}, test::CameraIntrinsics(), noise);
+    const auto pa = a.track(*scene.scan.cloud).objects.front().pose;
+    const auto pb = b.track(*scene.scan.cloud).objects.front().pose;
+    ASSERT_TRUE(pa && pb) << "frame " << f;
+    EXPECT_EQ(pa->matrix(), pb->matrix()) << "frame " << f;
+  }
+}
+
 TEST(ObjectTracker, RejectsBadParameters) {
   pcl::icf::tracking::TrackerParams params;
   params.search_interval = 0;

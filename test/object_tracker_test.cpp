@@ -115,27 +115,34 @@ TEST(ObjectTracker, SyntheticSequenceMovedRemovedAndPutBack) {
   EXPECT_LT(refound_at, kBackAt + 5) << "re-found within 5 frames";
 }
 
-// Deterministic: two trackers (one on both cores) fed the same frames report the same poses,
-// bit for bit.
+// Deterministic: two trackers, one on one thread and one on every core (the two objects refined
+// in parallel), fed the same frames report the same poses, bit for bit.
 TEST(ObjectTracker, SameFramesSamePoses) {
   const test::SyntheticModel box = test::thesisModel("Box5");
+  const test::SyntheticModel cup = test::thesisModel("Cup");
   const IcfModel::ConstPtr model = IcfModel::build(box.mesh);
+  const IcfModel::ConstPtr cup_model = IcfModel::build(cup.mesh);
   pcl::icf::tracking::TrackerParams one, all;
   one.localizer.threads = 1;
   all.localizer.threads = 0;
   ObjectTracker a(one), b(all);
   a.addObject(model, "Box5");
   b.addObject(model, "Box5");
+  a.addObject(cup_model, "Cup");  // two objects: refined in parallel by b
+  b.addObject(cup_model, "Cup");
   test::ScanNoise noise;
   noise.outlier_ratio = 0.0;
   for (int f = 0; f < 3; ++f) {
     noise.seed = 200 + static_cast<std::uint64_t>(f);
     const test::TabletopScene scene =
-        test::makeTabletopScene({box}, {boxPlacement(f)}, test::CameraIntrinsics(), noise);
-    const auto pa = a.track(*scene.scan.cloud).objects.front().pose;
-    const auto pb = b.track(*scene.scan.cloud).objects.front().pose;
-    ASSERT_TRUE(pa && pb) << "frame " << f;
-    EXPECT_EQ(pa->matrix(), pb->matrix()) << "frame " << f;
+        test::makeTabletopScene({box, cup}, {boxPlacement(f), Eigen::Vector3d(0.15, -0.05, 0.0)},
+                                test::CameraIntrinsics(), noise);
+    const auto oa = a.track(*scene.scan.cloud).objects;
+    const auto ob = b.track(*scene.scan.cloud).objects;
+    for (std::size_t k = 0; k < 2; ++k) {
+      ASSERT_TRUE(oa[k].pose && ob[k].pose) << "frame " << f << " object " << k;
+      EXPECT_EQ(oa[k].pose->matrix(), ob[k].pose->matrix()) << "frame " << f << " object " << k;
+    }
   }
 }
 

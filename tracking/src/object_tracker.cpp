@@ -7,6 +7,8 @@
 #include <pcl/point_types.h>
 #include <pcl/icf/segmentation/impl/object_localizer.hpp>
 
+#include <omp.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -183,9 +185,9 @@ bool ObjectTracker::refine(const FrameView& view, const DepthImage& image,
     out.refine_ms = msSince(start);
     return false;
   }
-  const int threads = params_.localizer.threads > 0 ? params_.localizer.threads : 1;
+  // One thread: the objects are refined in parallel (track).
   const RefinementResult r =
-      refinePose(object.model->index(), near, predicted.inverse(), params_.refinement, threads);
+      refinePose(object.model->index(), near, predicted.inverse(), params_.refinement, 1);
   out.refine_iterations = r.iterations;
   out.refine_ms = msSince(start);
   const auto verify_start = Clock::now();
@@ -263,17 +265,30 @@ TrackedFrame ObjectTracker::track(const pcl::PointCloud<PointT>& frame) {
     result.image_ms = msSince(image_start);
   }
 
-  for (Object& object : objects_) {
-    ObjectTrack out;
-    out.name = object.name;
-    bool ok = false;
+  // The refinements first, one object per thread (each reads the shared frame and image and
+  // writes its own slot: the result does not depend on the thread count); then, in order, the
+  // searches, which run in parallel inside.
+  const int n = static_cast<int>(objects_.size());
+  std::vector<ObjectTrack> outs(objects_.size());
+  std::vector<char> refined_ok(objects_.size(), 0);
+  const int threads =
+      params_.localizer.threads > 0 ? params_.localizer.threads : omp_get_num_procs();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (n > 1)
+  for (int k = 0; k < n; ++k) {
+    Object& object = objects_[static_cast<std::size_t>(k)];
+    outs[static_cast<std::size_t>(k)].name = object.name;
+    if (object.last)
+      refined_ok[static_cast<std::size_t>(k)] =
+          refine(view, image, table, object, outs[static_cast<std::size_t>(k)]) ? 1 : 0;
+  }
+  for (std::size_t k = 0; k < objects_.size(); ++k) {
+    Object& object = objects_[k];
+    ObjectTrack& out = outs[k];
+    bool ok = refined_ok[k] != 0;
     bool by_search = false;
-    const bool was_tracked = object.last.has_value();
-    if (was_tracked)
-      ok = refine(view, image, table, object, out);
     // A failed refinement searches at once (occlusion, a fast move); a lost object every
     // search_interval frames.
-    if (!ok && (was_tracked || object.frames_lost % params_.search_interval == 0)) {
+    if (!ok && (out.refined || object.frames_lost % params_.search_interval == 0)) {
       ok = search(frame, view, object, out);
       by_search = ok;
     }
@@ -291,8 +306,8 @@ TrackedFrame ObjectTracker::track(const pcl::PointCloud<PointT>& frame) {
       ++object.frames_lost;
     }
     out.frames_lost = object.frames_lost;
-    result.objects.push_back(std::move(out));
   }
+  result.objects = std::move(outs);
   result.total_ms = msSince(start);
   return result;
 }

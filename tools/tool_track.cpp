@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
 
 namespace pcl_icf_tool {
 
@@ -103,13 +104,16 @@ int runTrack(const ToolOptions& options) {
     } catch (const BadInput& e) {
       error = e.what();
     }
-    if (!error.empty()) {
+    auto skip = [&](const std::string& why) {
       ++bad;
-      line["error"] = error;
+      line["error"] = why;
       printLine(line);
       if (!quiet)
         std::fprintf(stderr, "%s: frame %zu (%s) skipped: %s\n", kProgram, f, name.c_str(),
-                     error.c_str());
+                     why.c_str());
+    };
+    if (!error.empty()) {
+      skip(error);
       continue;
     }
     if (!shape) {
@@ -120,7 +124,13 @@ int runTrack(const ToolOptions& options) {
       for (const auto& m : models)
         tracker->addObject(m.icf, std::filesystem::path(m.path).stem().string());
     }
-    const trk::TrackedFrame out = tracker->track(*scene->metres);
+    trk::TrackedFrame out;
+    try {
+      out = tracker->track(*scene->metres);
+    } catch (const std::invalid_argument& e) {  // a frame's VIEWPOINT that is not a rigid motion
+      skip(e.what());
+      continue;
+    }
     line["ms"] = out.total_ms;
     json objects = json::array();
     std::string summary;

@@ -237,6 +237,12 @@ bool holdsMore(const ClusterLocalization& judged, const pcl::PointIndices& clust
   return judged.accepted || 3 * judged.explained.size() <= 2 * cluster.indices.size();
 }
 
+/** True when \a judged's pose is worth more work (its turns, a refit of its cluster's rest):
+ * accepted, or at least half the confidence an acceptance needs. */
+bool isPromising(const ClusterLocalization& judged, const LocalizerParams& params) {
+  return judged.accepted || judged.verification.confidence >= 0.5 * params.min_confidence;
+}
+
 /** The points of \a cluster not in \a explained, sorted. */
 pcl::PointIndices unexplainedPoints(const pcl::PointIndices& cluster,
                                     const pcl::Indices& explained) {
@@ -378,7 +384,7 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
   c.score = c.verification.confidence * colour_factor;
   // A promising pose is checked against its turns before it is judged: the search may have
   // landed on a near-symmetric flip that explains the depth a little worse.
-  if (axes && c.verification.confidence >= 0.5 * params.min_confidence)
+  if (axes && isPromising(c, params))
     resolveTurns(c, view, image, model, *axes, params);
   c.reason = rejection(c, params);
   c.accepted = c.reason.empty();
@@ -624,7 +630,7 @@ Localization localizeInView(const SceneView& view, TabletopSegmentation segmenta
                                           [](const ClusterLocalization& c) { return c.accepted; });
   const int rounds = std::max(params.max_instances, none_accepted ? 2 : 1);
   for (int round = 1; round < rounds; ++round) {
-    std::vector<int> rests, refits;
+    std::vector<int> rests;
     const std::size_t judged = clusters.size();
     for (std::size_t k = 0; k < judged; ++k)
       if (!expanded[k] && holdsMore(out.clusters[k], clusters[k])) {
@@ -637,17 +643,29 @@ Localization localizeInView(const SceneView& view, TabletopSegmentation segmenta
     if (rests.empty())
       break;
     judgeAdded(rests);
-    for (int r : rests) {
-      const auto parent = static_cast<std::size_t>(parents[static_cast<std::size_t>(r)]);
-      if (!out.clusters[static_cast<std::size_t>(r)].accepted)
-        continue;
-      const int refit = addCandidate(
-          unexplainedPoints(clusters[parent], out.clusters[static_cast<std::size_t>(r)].explained),
-          parent, true);
-      if (refit >= 0)
-        refits.push_back(refit);
-    }
+    // A promising rest is refit too, not only an accepted one: the merged pose took some of
+    // its points, so its own pose may run into its neighbour. When its refit (the neighbour)
+    // is accepted, the rest is searched once more without the neighbour's points.
+    auto refitWithout = [&](int from) {
+      const auto parent = static_cast<std::size_t>(parents[static_cast<std::size_t>(from)]);
+      return addCandidate(unexplainedPoints(clusters[parent],
+                                            out.clusters[static_cast<std::size_t>(from)].explained),
+                          parent, true);
+    };
+    std::vector<int> refits, sources, again;
+    for (int r : rests)
+      if (isPromising(out.clusters[static_cast<std::size_t>(r)], params))
+        if (const int refit = refitWithout(r); refit >= 0) {
+          refits.push_back(refit);
+          sources.push_back(r);
+        }
     judgeAdded(refits);
+    for (std::size_t j = 0; j < refits.size(); ++j)
+      if (out.clusters[static_cast<std::size_t>(refits[j])].accepted &&
+          !out.clusters[static_cast<std::size_t>(sources[j])].accepted)
+        if (const int rest_again = refitWithout(refits[j]); rest_again >= 0)
+          again.push_back(rest_again);
+    judgeAdded(again);
   }
   for (std::size_t k = 0; k < out.clusters.size(); ++k)
     out.clusters[k].parent = parents[k];

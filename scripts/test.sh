@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Sets up, builds and runs every test: the release build and, unless SKIP_SANITIZERS=1, an
 # ASan+UBSan build of the tests; with RUN_TSAN=1 (.ci/run sets it) also a ThreadSanitizer build
-# of the multi-threaded tests (clang, libomp + Archer: doc/HOSTILE_INPUTS.md). Used by the
-# README and by .ci/run.
+# of the multi-threaded tests (clang, libomp + Archer: doc/HOSTILE_INPUTS.md). Installs the
+# Python module for this user after the release tests. Used by the README and by .ci/run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -12,6 +12,11 @@ JOBS=${JOBS:-$(nproc)}
 cmake --preset release -DPCL_ICF_PYTHON=ON >/dev/null
 cmake --build --preset release -j "$JOBS"
 ctest --preset release -j "$JOBS"
+# The module where this user's python3 finds it (`python3 -c "import pcl_icf"` from anywhere),
+# once its tests passed: Python's per-user site folder, no system folder touched.
+site=$(/usr/bin/python3 -m site --user-site)
+install -D -m 644 build/release/python/pcl_icf.cpython-*.so -t "$site"
+echo "test.sh: Python module pcl_icf installed in $site"
 
 if [ "${SKIP_SANITIZERS:-0}" != 1 ]; then
   cmake --preset asan >/dev/null

@@ -7,6 +7,7 @@
 #include "support/depth_camera.h"
 #include "support/pose_error.h"
 #include "support/synthetic_models.h"
+#include "support/synthetic_sequence.h"
 #include "test_paths.h"
 
 #include <pcl/icf/io/mesh_io.h>
@@ -43,35 +44,40 @@ constexpr int kFrames = 14;
 constexpr int kGoneFrom = 5;
 constexpr int kBackAt = 8;
 
-Eigen::Vector3d boxPlacement(int frame) {
-  return {-0.08 + 0.008 * frame, 0.02 + 0.003 * frame, 0.3 + 2.0 * M_PI / 180.0 * frame};
+/** That sequence (the cup first, then the box), frame f's noise seeded with noise_seed + f. */
+test::SequenceSpec movingBoxSequence(std::uint64_t noise_seed) {
+  test::SequenceSpec spec;
+  spec.frames = kFrames;
+  spec.noise.outlier_ratio = 0.0;  // as the localizer's table-top tests (object_localizer_test)
+  spec.noise.seed = noise_seed;
+  test::SequenceObject cup, box;
+  cup.model = test::thesisModel("Cup");
+  cup.start = Eigen::Vector3d(0.15, -0.05, 0.0);
+  box.model = test::thesisModel("Box5");
+  box.start = Eigen::Vector3d(-0.08, 0.02, 0.3);
+  box.velocity = Eigen::Vector3d(0.008, 0.003, 2.0 * M_PI / 180.0);
+  box.absent_from = kGoneFrom;
+  box.absent_until = kBackAt;
+  spec.objects = {cup, box};
+  return spec;
 }
 
 TEST(ObjectTracker, SyntheticSequenceMovedRemovedAndPutBack) {
-  const test::SyntheticModel box = test::thesisModel("Box5");
-  const test::SyntheticModel cup = test::thesisModel("Cup");
-  test::ScanNoise noise;
-  noise.outlier_ratio = 0.0;  // as the localizer's table-top tests (object_localizer_test.cpp)
+  const test::SequenceSpec spec = movingBoxSequence(100);
+  const test::SyntheticModel& cup = spec.objects[0].model;
+  const test::SyntheticModel& box = spec.objects[1].model;
   pcl::icf::tracking::TrackerParams params;
   params.localizer.threads = 1;
   ObjectTracker tracker(params);
   tracker.addObject(IcfModel::build(box.mesh), "Box5");
   tracker.addObject(IcfModel::build(cup.mesh), "Cup");
-  const Eigen::Vector3d cup_place(0.15, -0.05, 0.0);
 
   int lost_at = -1, refound_at = -1;
   for (int f = 0; f < kFrames; ++f) {
-    noise.seed = 100 + static_cast<std::uint64_t>(f);
-    const bool present = f < kGoneFrom || f >= kBackAt;
-    std::vector<test::SyntheticModel> models = {cup};
-    std::vector<Eigen::Vector3d> places = {cup_place};
-    if (present) {
-      models.push_back(box);
-      places.push_back(boxPlacement(f));
-    }
-    const test::TabletopScene scene =
-        test::makeTabletopScene(models, places, test::CameraIntrinsics(), noise);
-    const auto out = tracker.track(*scene.scan.cloud);
+    const test::SequenceFrame frame = test::renderSequenceFrame(spec, f);
+    const bool present = frame.present[1];
+    EXPECT_EQ(present, f < kGoneFrom || f >= kBackAt);
+    const auto out = tracker.track(*frame.scene.scan.cloud);
     ASSERT_EQ(out.objects.size(), 2u);
     const auto& b = out.objects[0];
     const auto& c = out.objects[1];
@@ -84,13 +90,13 @@ TEST(ObjectTracker, SyntheticSequenceMovedRemovedAndPutBack) {
     ASSERT_TRUE(c.pose.has_value());
     EXPECT_EQ(c.state, f == 0 ? TrackState::Found : TrackState::Tracking);
     const auto cup_error = test::poseError(Eigen::Isometry3d(c.pose->matrix().cast<double>()),
-                                           scene.poses[0], cup.symmetry);
+                                           frame.poses[0], cup.symmetry);
     EXPECT_LE(cup_error.translation, 0.01);
     EXPECT_LE(cup_error.rotation_deg, 5.0);
     if (present) {
       ASSERT_TRUE(b.pose.has_value());
       const auto error = test::poseError(Eigen::Isometry3d(b.pose->matrix().cast<double>()),
-                                         scene.poses[1], box.symmetry);
+                                         frame.poses[1], box.symmetry);
       std::printf("frame %d Box5 error %.1f mm %.2f deg\n", f, 1e3 * error.translation,
                   error.rotation_deg);
       EXPECT_LE(error.translation, 0.01);
@@ -130,13 +136,9 @@ TEST(ObjectTracker, SameFramesSamePoses) {
   b.addObject(model, "Box5");
   a.addObject(cup_model, "Cup");  // two objects: refined in parallel by b
   b.addObject(cup_model, "Cup");
-  test::ScanNoise noise;
-  noise.outlier_ratio = 0.0;
+  const test::SequenceSpec spec = movingBoxSequence(200);
   for (int f = 0; f < 3; ++f) {
-    noise.seed = 200 + static_cast<std::uint64_t>(f);
-    const test::TabletopScene scene =
-        test::makeTabletopScene({box, cup}, {boxPlacement(f), Eigen::Vector3d(0.15, -0.05, 0.0)},
-                                test::CameraIntrinsics(), noise);
+    const test::TabletopScene scene = test::renderSequenceFrame(spec, f).scene;
     const auto oa = a.track(*scene.scan.cloud).objects;
     const auto ob = b.track(*scene.scan.cloud).objects;
     for (std::size_t k = 0; k < 2; ++k) {

@@ -2,8 +2,9 @@
 // thesis's models (chapter 6-7) seen by a simulated Kinect — and its manifest
 // (doc/DATASETS.md).
 //
-//   pcl_icf_make_dataset --out DIR [--manifest FILE] [--kind views|tabletop|absent] [--cases N]
-//                        [--models A,B,...] [--seed S]
+//   pcl_icf_make_dataset --out DIR [--manifest FILE]
+//                        [--kind views|tabletop|absent|present|sequence] [--cases N]
+//                        [--frames N] [--models A,B,...] [--seed S]
 //
 // --kind views (default): per model N single-object clusters, the model at a uniformly random
 //   rotation, x, y in [-0.15, 0.15] m and 0.7-1.1 m in front of the camera (the test support's
@@ -24,6 +25,14 @@
 //   (the similar shape, same colour) and the neighbours, the whole organized frame. Groups
 //   P-TallCylinder, P-Box5, P-Amicelly, P-EisKaffe, P-YellowRoundSalt; the manifest line has
 //   the target's truth and cluster=all (for icf-scene: find the right one of two look-alikes).
+// --kind sequence: N streams of --frames organized frames (doc/DATASETS.md) for the tracker
+//   (pcl_icf_tool --track): two of the thesis models (drawn per sequence) tracked, the first
+//   moving along a smooth curve and taken off the table for 3-6 frames, then put back where
+//   its path has carried on; the second moving slowly behind the path of an untracked
+//   occluder (TallCylinder) that crosses in front of it mid-sequence. Writes per sequence
+//   DIR/sequence/seq_<k>/frames/frame_<f>.pcd, frames.txt (the list, in order), truth.json
+//   (per frame and object: present, visible fraction, pose) and tracked_models.txt (the
+//   tracked models' paths, relative to the sequence); no manifest.
 // Noise everywhere: 1.5 mm at 1 m growing with depth^2, 5% outliers within +-5 cm along the
 // ray (test::ScanNoise defaults). Case k of a group draws from std::mt19937_64 seeded with
 // seed + 1000 * group + k, so adding cases never changes the earlier ones.
@@ -37,9 +46,12 @@
 #include "support/mesh_geometry.h"
 #include "support/pose_error.h"
 #include "support/synthetic_models.h"
+#include "support/synthetic_sequence.h"
 
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
+
+#include <nlohmann/json.hpp>
 
 #include <unistd.h>
 
@@ -65,21 +77,38 @@ struct Options {
   fs::path out;
   fs::path manifest;
   std::string kind = "views";
-  int cases = 30;
+  int cases = -1;                   ///< -1: the kind's default (30; sequence: 1)
+  int frames = 40;                  ///< sequence: frames per sequence
   std::vector<std::string> models;  ///< empty: every model (views: the four thesis models)
   std::uint64_t seed = 2013;
 };
 
 int usage(const char* program) {
   std::fprintf(stderr,
-               "Usage: %s --out DIR [--manifest FILE] [--kind views|tabletop|absent|present]\n"
-               "          [--cases N]\n"
-               "          [--models A,B,...] [--seed S]\n"
+               "Usage: %s --out DIR [--manifest FILE]\n"
+               "          [--kind views|tabletop|absent|present|sequence] [--cases N]\n"
+               "          [--frames N] [--models A,B,...] [--seed S]\n"
                "Writes a seeded synthetic suite of the thesis's models and its manifest\n"
                "(format: doc/DATASETS.md). Defaults: views, 30 cases per group, every model\n"
-               "(views: the four thesis models), seed 2013, manifest DIR/manifest.txt.\n",
+               "(views: the four thesis models), seed 2013, manifest DIR/manifest.txt.\n"
+               "--kind sequence writes N (default 1) streams of --frames (default 40) frames\n"
+               "for pcl_icf_tool --track, each with frames.txt and truth.json, no manifest.\n",
                program);
   return 2;
+}
+
+/** \a text as a whole integer; std::invalid_argument naming \a option otherwise. */
+long long integer(const std::string& option, const std::string& text) {
+  std::size_t end = 0;
+  long long v = 0;
+  try {
+    v = std::stoll(text, &end);
+  } catch (const std::exception&) {
+    end = 0;
+  }
+  if (text.empty() || end != text.size() || (text[0] == '-' && option == "--seed"))
+    throw std::invalid_argument(option + ": '" + text + "' is not an integer");
+  return v;
 }
 
 /** The options; std::invalid_argument on a bad one. False for --help. */
@@ -98,11 +127,13 @@ bool parseOptions(int argc, char** argv, Options& opt) {
     else if (arg == "--kind")
       opt.kind = value();
     else if (arg == "--cases")
-      opt.cases = std::stoi(value());
+      opt.cases = static_cast<int>(std::clamp(integer(arg, value()), 0LL, 1000000LL));
+    else if (arg == "--frames")
+      opt.frames = static_cast<int>(std::clamp(integer(arg, value()), -1LL, 1000000LL));
     else if (arg == "--models")
       opt.models = pcl_icf_tools::splitComma(value());
     else if (arg == "--seed")
-      opt.seed = std::stoull(value());
+      opt.seed = static_cast<std::uint64_t>(integer(arg, value()));
     else if (arg == "-h" || arg == "--help")
       return false;
     else
@@ -111,11 +142,17 @@ bool parseOptions(int argc, char** argv, Options& opt) {
   if (opt.out.empty())
     throw std::invalid_argument("--out is required");
   if (opt.kind != "views" && opt.kind != "tabletop" && opt.kind != "absent" &&
-      opt.kind != "present")
-    throw std::invalid_argument("--kind must be views, tabletop, absent or present, not " +
-                                opt.kind);
+      opt.kind != "present" && opt.kind != "sequence")
+    throw std::invalid_argument(
+        "--kind must be views, tabletop, absent, present or sequence, not " + opt.kind);
+  if (opt.cases == -1)
+    opt.cases = opt.kind == "sequence" ? 1 : 30;
   if (opt.cases < 1 || opt.cases > 100000)
     throw std::invalid_argument("--cases must lie in [1, 100000]");
+  if (opt.frames < 10 || opt.frames > 100000)
+    throw std::invalid_argument("--frames must lie in [10, 100000]");
+  if (opt.kind == "sequence" && (!opt.manifest.empty() || !opt.models.empty()))
+    throw std::invalid_argument("--kind sequence takes no --manifest and no --models");
   if (opt.manifest.empty())
     opt.manifest = opt.out / "manifest.txt";
   return true;
@@ -402,6 +439,142 @@ std::size_t writeSuite(const Options& opt, const std::vector<Group>& groups) {
   return written;
 }
 
+/** Sequence k's objects: two distinct thesis models tracked, A moving along a smooth curve at
+ * the back of the table and taken away for 3-6 frames in its first half, B moving slowly in
+ * front, and an untracked TallCylinder (the occluder) crossing in front of B around the
+ * middle frame. The camera looks from the -y side (makeTabletopScene), so y orders depth. */
+t::SequenceSpec drawSequence(int frames, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  // One draw per statement: the order of draws must not depend on the compiler's order of
+  // evaluating arguments.
+  auto uniform = [&rng](double lo, double hi) {
+    return std::uniform_real_distribution<double>(lo, hi)(rng);
+  };
+  auto sign = [&rng]() { return std::bernoulli_distribution(0.5)(rng) ? 1.0 : -1.0; };
+  std::vector<std::string> names = t::thesisModelNames();
+  std::shuffle(names.begin(), names.end(), rng);
+  const double n = static_cast<double>(frames), deg = M_PI / 180.0;
+  t::SequenceSpec spec;
+  spec.frames = frames;
+  spec.noise.seed = rng();
+
+  t::SequenceObject a, b, occluder;
+  a.model = modelByName(names[0]);
+  const double travel = uniform(0.25, 0.4);  // metres along x over the sequence
+  a.start.x() = -0.5 * travel;
+  a.start.y() = uniform(0.13, 0.17);
+  a.start.z() = uniform(-M_PI, M_PI);
+  a.velocity.x() = travel / n;
+  a.velocity.z() = sign();
+  a.velocity.z() *= uniform(1.0, 3.0) * deg;
+  a.sway.y() = uniform(0.01, 0.03);
+  a.sway_period = uniform(0.5, 1.0) * n;
+  a.absent_from = std::uniform_int_distribution<int>(frames / 5, frames / 2)(rng);
+  a.absent_until = a.absent_from + std::uniform_int_distribution<int>(3, 6)(rng);
+
+  b.model = modelByName(names[1]);
+  b.start.x() = uniform(-0.05, 0.05);
+  b.start.y() = uniform(-0.05, -0.02);
+  b.start.z() = uniform(-M_PI, M_PI);
+  b.velocity.x() = sign();
+  b.velocity.x() *= uniform(0.0, 0.002);
+  b.velocity.z() = sign();
+  b.velocity.z() *= uniform(0.0, 1.0) * deg;
+
+  occluder.model = modelByName("TallCylinder");
+  occluder.tracked = false;
+  const double speed = uniform(0.012, 0.018);
+  const double direction = sign();
+  occluder.start.x() = b.placement(frames / 2).x() - direction * speed * 0.5 * n;
+  occluder.start.y() = uniform(-0.19, -0.17);
+  occluder.velocity.x() = direction * speed;
+  spec.objects = {a, b, occluder};
+  return spec;
+}
+
+nlohmann::ordered_json poseJson(const Eigen::Isometry3d& pose) {
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (int r = 0; r < 4; ++r)
+    rows.push_back({pose(r, 0), pose(r, 1), pose(r, 2), pose(r, 3)});
+  return rows;
+}
+
+/** Writes sequence \a name into DIR/sequence/NAME: frames/, frames.txt, truth.json. */
+void writeSequence(const Options& opt, const t::SequenceSpec& spec, const std::string& name,
+                   std::uint64_t seed, bool tty) {
+  const fs::path dir = opt.out / "sequence" / name;
+  fs::create_directories(dir / "frames");
+  nlohmann::ordered_json truth;
+  truth["format"] = "pcl_icf sequence truth v1 (doc/DATASETS.md)";
+  truth["written_by"] = "pcl_icf_make_dataset --kind sequence --frames " +
+                        std::to_string(opt.frames) + " --seed " + std::to_string(opt.seed);
+  truth["seed"] = seed;
+  truth["units"] = "m";
+  const t::CameraIntrinsics& k = spec.intrinsics;
+  truth["camera"] = {{"width", k.width}, {"height", k.height}, {"fx", k.fx},
+                     {"fy", k.fy},       {"cx", k.cx},         {"cy", k.cy}};
+  std::ofstream tracked(dir / "tracked_models.txt");  // the models to give pcl_icf_tool --track
+  for (const auto& o : spec.objects) {
+    if (o.tracked)
+      tracked << fs::relative(opt.out / "models" / (o.model.name + ".ply"), dir).string() << "\n";
+    nlohmann::ordered_json j;
+    j["name"] = o.model.name;
+    j["model"] = fs::relative(opt.out / "models" / (o.model.name + ".ply"), dir).string();
+    j["symmetry"] = symmetrySpec(o.model.name);
+    j["tracked"] = o.tracked;
+    if (o.absent_from >= 0)
+      j["absent"] = {o.absent_from, o.absent_until};
+    truth["objects"].push_back(j);
+  }
+  std::ofstream list(dir / "frames.txt");
+  list << "# " << name << ": " << spec.frames << " frames in order (truth.json)\n";
+  for (int f = 0; f < spec.frames; ++f) {
+    const t::SequenceFrame frame = t::renderSequenceFrame(spec, f);
+    char file[64];
+    std::snprintf(file, sizeof(file), "frames/frame_%04d.pcd", f);
+    if (pcl::io::savePCDFileBinaryCompressed((dir / file).string(), *frame.scene.scan.cloud) != 0)
+      throw std::runtime_error("cannot write " + (dir / file).string());
+    list << file << "\n";
+    nlohmann::ordered_json line;
+    line["frame"] = f;
+    line["file"] = file;
+    for (std::size_t i = 0; i < spec.objects.size(); ++i)
+      line["objects"].push_back({{"name", spec.objects[i].model.name},
+                                 {"present", static_cast<bool>(frame.present[i])},
+                                 {"visible", std::round(1e4 * frame.visible[i]) / 1e4},
+                                 {"pose", poseJson(frame.poses[i])}});
+    truth["frames"].push_back(line);
+    if (tty)
+      std::fprintf(stderr, "\r%s: frame %d/%d   ", name.c_str(), f + 1, spec.frames);
+  }
+  std::ofstream out(dir / "truth.json");
+  out << truth.dump(1) << "\n";
+  if (!list || !out || !tracked)
+    throw std::runtime_error("cannot write " + dir.string());
+}
+
+/** --kind sequence: opt.cases sequences; sequence k draws from seed + k. */
+std::size_t writeSequences(const Options& opt) {
+  fs::create_directories(opt.out / "models");
+  for (const std::string& name : t::thesisModelNames())
+    if (pcl::io::savePLYFileBinary((opt.out / "models" / (name + ".ply")).string(),
+                                   modelByName(name).mesh) != 0)
+      throw std::runtime_error("cannot write " + (opt.out / "models").string());
+  if (pcl::io::savePLYFileBinary((opt.out / "models" / "TallCylinder.ply").string(),
+                                 modelByName("TallCylinder").mesh) != 0)
+    throw std::runtime_error("cannot write " + (opt.out / "models").string());
+  const bool tty = isatty(STDERR_FILENO);
+  for (int k = 0; k < opt.cases; ++k) {
+    const std::uint64_t seed = opt.seed + static_cast<std::uint64_t>(k);
+    char name[32];
+    std::snprintf(name, sizeof(name), "seq_%03d", k);
+    writeSequence(opt, drawSequence(opt.frames, seed), name, seed, tty);
+  }
+  if (tty)
+    std::fprintf(stderr, "\n");
+  return static_cast<std::size_t>(opt.cases);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -414,6 +587,12 @@ int main(int argc, char** argv) {
     return usage(argv[0]);
   }
   try {
+    if (opt.kind == "sequence") {
+      const std::size_t written = writeSequences(opt);
+      std::printf("wrote %zu sequences of %d frames to %s\n", written, opt.frames,
+                  (opt.out / "sequence").string().c_str());
+      return 0;
+    }
     const std::vector<Group> groups = selectedGroups(opt);
     if (groups.empty())
       throw std::invalid_argument("--models selects no group of --kind " + opt.kind);

@@ -345,6 +345,15 @@ RandomView randomView(const pcl::PolygonMesh& mesh, std::uint64_t seed, std::siz
   return v;
 }
 
+Eigen::Isometry3d standOnTable(const pcl::PolygonMesh& mesh, const Eigen::Vector3d& xy_yaw) {
+  Eigen::Isometry3d model_to_table = Eigen::Isometry3d::Identity();
+  model_to_table.linear() =
+      Eigen::AngleAxisd(xy_yaw.z(), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  model_to_table.translation() =
+      Eigen::Vector3d(xy_yaw.x(), xy_yaw.y(), -boundingBox(mesh).min().z());
+  return model_to_table;
+}
+
 TabletopScene makeTabletopScene(const std::vector<SyntheticModel>& objects,
                                 const std::vector<Eigen::Vector3d>& table_xy_yaw,
                                 const CameraIntrinsics& intrinsics, const ScanNoise& noise,
@@ -382,15 +391,9 @@ TabletopScene makeTabletopScene(const std::vector<SyntheticModel>& objects,
   scene_objects.push_back(table_object);
 
   for (std::size_t i = 0; i < objects.size(); ++i) {
-    const double min_z = boundingBox(objects[i].mesh).min().z();
-    Eigen::Isometry3d model_to_table = Eigen::Isometry3d::Identity();
-    model_to_table.linear() =
-        Eigen::AngleAxisd(table_xy_yaw[i].z(), Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    model_to_table.translation() =
-        Eigen::Vector3d(table_xy_yaw[i].x(), table_xy_yaw[i].y(), -min_z);
     SceneObject object;
     object.mesh = &objects[i].mesh;
-    object.pose = scene.table_to_camera * model_to_table;
+    object.pose = scene.table_to_camera * standOnTable(objects[i].mesh, table_xy_yaw[i]);
     object.rgb = objects[i].rgb;
     object.label = static_cast<int>(i) + 1;
     scene_objects.push_back(object);

@@ -130,6 +130,11 @@ struct TabletopScene {
   Eigen::Isometry3d table_to_camera = Eigen::Isometry3d::Identity();
 };
 
+/** \brief Model -> table frame of a mesh standing upright at (x, y) = xy_yaw.head<2>() (metres),
+ *  turned by yaw xy_yaw.z() (radians) about the table normal, its lowest vertex on the surface
+ *  (as makeTabletopScene places its objects). */
+Eigen::Isometry3d standOnTable(const pcl::PolygonMesh& mesh, const Eigen::Vector3d& xy_yaw);
+
 /** \brief Renders objects standing upright on a 1.2 x 0.8 m table.
  *
  * The table lies in the z = 0 plane of the table frame (x along its 1.2 m side). The camera is

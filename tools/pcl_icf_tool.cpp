@@ -24,6 +24,7 @@
 #include <vtkObject.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -124,8 +125,20 @@ int main(int argc, char** argv) {
           "--view needs a display (DISPLAY is unset or cannot be opened); "
           "use --render FILE.png to get a picture without one");
     // Refuse what we would refuse before spending time on Xvfb or the search.
-    if (!options.track.empty())
+    if (!options.track.empty()) {
+      if (!options.render_dir.empty()) {
+        std::error_code ec;
+        std::filesystem::create_directories(options.render_dir, ec);
+        if (!std::filesystem::is_directory(options.render_dir))
+          throw OutputError("--render-dir " + options.render_dir + ": not a directory" +
+                            (ec ? " (" + ec.message() + ")" : std::string()));
+      }
+      const std::string display =
+          pcl_icf_tool::ensureDisplayOrReexec(argc, argv, !options.render_dir.empty());
+      if (!display.empty())
+        throw OutputError(display);
       return runTrack(options);
+    }
     if (options.batch.empty())
       checkSingleOutputs(options);
     const std::string display = pcl_icf_tool::ensureDisplayOrReexec(argc, argv, render);

@@ -24,21 +24,17 @@ namespace pcl_icf_tool {
 namespace fs = std::filesystem;
 namespace seg = pcl::icf::segmentation;
 
-namespace {
-
-bool isSceneFile(const fs::path& p) {
-  const std::string ext = pcl::icf::io::fileExtension(p.string());
+bool isSceneFile(const std::string& path) {
+  const std::string ext = pcl::icf::io::fileExtension(path);
   return ext == "pcd" || ext == "ply" || ext == "xyz" || ext == "asc";
 }
-
-}  // namespace
 
 std::vector<std::string> listScenes(const std::string& source, const std::string& option) {
   std::vector<std::string> scenes;
   std::error_code ec;
   if (fs::is_directory(source, ec)) {
     for (const auto& entry : fs::directory_iterator(source, ec))
-      if (entry.is_regular_file(ec) && isSceneFile(entry.path()))
+      if (entry.is_regular_file(ec) && isSceneFile(entry.path().string()))
         scenes.push_back(entry.path().string());
     std::sort(scenes.begin(), scenes.end());
     if (scenes.empty())

@@ -15,6 +15,9 @@
 
 namespace pcl_icf_tool {
 
+/** Whether \a path names a scene file by its extension: .pcd, .ply, .xyz or .asc. */
+bool isSceneFile(const std::string& path);
+
 /** The scene files of \a source: a directory's .pcd, .ply, .xyz and .asc files in name order,
  * or the paths a list file names (one a line, '#' comments, relative to its folder).
  * \throws BadInput naming \a option for an empty directory, an unreadable or empty list. */

@@ -191,6 +191,7 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
   ToolOptions o;
   auto& p = o.params;
   std::vector<std::string> positional;
+  bool idle_given = false;
   Args args(argc, argv);
   while (!args.done()) {
     const std::string a = args.next();
@@ -285,7 +286,15 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
       o.batch = args.value(a);
     else if (a == "--track")
       o.track = args.value(a);
-    else if (a == "--out-dir")
+    else if (a == "--render-dir")
+      o.render_dir = args.value(a);
+    else if (a == "--follow") {
+      args.noValue(a);
+      o.follow = true;
+    } else if (a == "--idle-seconds") {
+      o.idle_seconds = parsePositive(a, args.value(a));
+      idle_given = true;
+    } else if (a == "--out-dir")
       o.out_dir = args.value(a);
     else if (a == "--render-all") {
       args.noValue(a);
@@ -304,6 +313,12 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
         !o.output.empty() || !o.render.empty() || o.view || o.render_all || o.output_all)
       throw UsageError("--track FRAMES takes one or more MODELs and no other input or output");
     o.models = positional;
+    if (idle_given && !o.follow)
+      throw UsageError("--idle-seconds is for --follow");
+    if (o.idle_seconds > 86400.0)
+      throw UsageError("--idle-seconds: at most 86400 (a day)");
+  } else if (!o.render_dir.empty() || o.follow || idle_given) {
+    throw UsageError("--render-dir, --follow and --idle-seconds need --track FRAMES");
   } else if (!o.batch.empty()) {
     if (positional.size() != 1)
       throw UsageError("--batch SCENES takes exactly one MODEL argument, got " +
@@ -410,6 +425,12 @@ std::string usageText(const std::string& program) {
     << "  Tracking (" << program << " --track FRAMES MODEL...):\n"
     << "    --track FRAMES           = follow every MODEL over a directory or list of frames;\n"
     << "                               one JSON line per frame on stdout\n"
+    << "    --render-dir DIR         = also DIR/NNNN_<frame>.png per frame with the tracked\n"
+    << "                               poses drawn (xvfb-run when DISPLAY is unset)\n"
+    << "    --follow                 = FRAMES is a folder: track each new frame as it appears\n"
+    << "                               (name order, once its size has settled)\n"
+    << "    --idle-seconds N         = --follow stops after N s without a new frame (default: "
+    << d.idle_seconds << ")\n"
     << "\n"
     << "Exit status: 0 object found, 1 nothing accepted, 2 bad usage or bad input.\n"
     << "In batch mode: 2 if any scene could not be read, else 1 if any scene had no object.\n";

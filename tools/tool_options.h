@@ -47,8 +47,14 @@ struct ToolOptions {
    * positional argument is a MODEL to follow (tool_track). */
   std::string track;
   std::vector<std::string> models;  ///< --track's MODELs
-  bool render_all = false;          ///< --render-all (batch): DIR/<scene>.png for every scene
-  bool output_all = false;          ///< --output-all (batch): DIR/<scene>.ply for every found pose
+  /** --render-dir DIR (track): DIR/NNNN_<frame>.png per frame, the tracked poses drawn. */
+  std::string render_dir;
+  /** --follow (track): FRAMES is a folder watched for new frames until --idle-seconds pass
+   * without one. */
+  bool follow = false;
+  double idle_seconds = 10.0;  ///< --idle-seconds (follow)
+  bool render_all = false;     ///< --render-all (batch): DIR/<scene>.png for every scene
+  bool output_all = false;     ///< --output-all (batch): DIR/<scene>.ply for every found pose
 
   /** --camera: the camera's pose in the scene's frame, translation in the scene's units
    * (unset: the file's VIEWPOINT, the camera's frame by default). */

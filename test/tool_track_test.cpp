@@ -182,12 +182,14 @@ TEST_F(ToolTrack, RenderDirAndFollowMisuseIsBadUsage) {
   EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2);
 }
 
-// --follow: a frame there from the start, one renamed into the folder while the tool runs, one
-// written in two parts; each tracked once, in name order, and the tool stops after the idle time.
+// --follow: a frame there from the start (and a hidden file, ignored), one renamed into the
+// folder while the tool runs, one written in two parts; each tracked once, in name order, and
+// the tool stops after the idle time.
 TEST_F(ToolTrack, FollowTracksFramesAsTheyAppearAndStopsWhenIdle) {
   const fs::path frames = dir_ / "frames";
   const fs::path scene = fs::path(PCL_ICF_DEMO_DATA) / "tabletop_box5.pcd";
   fs::copy_file(scene, frames / "f1.pcd");
+  fs::copy_file(scene, frames / ".f0.pcd");  // hidden: a writer's temporary, never tracked
   Tracked t;
   const auto start = std::chrono::steady_clock::now();
   std::thread tool([&] { t = track(frames, dir_, "--follow --idle-seconds 2"); });

@@ -213,10 +213,10 @@ class TrackStream {
   std::vector<double> refine_ms_, verify_ms_;
 };
 
-/** The frames of a folder as they become complete: a scene file (listScenes' extensions) is
- * taken once its size and modification time have stayed the same for kSettle (a frame
- * renamed into the folder is complete at once, after kSettle), each once, the ready ones in
- * name order. */
+/** The frames of a folder as they become complete: a scene file (listScenes' extensions; not
+ * a hidden ".name") is taken once its size and modification time have stayed the same for
+ * kSettle (a frame renamed into the folder: after kSettle), each once, the ready ones in name
+ * order. */
 class FolderWatch {
  public:
   static constexpr std::chrono::milliseconds kSettle{300};
@@ -232,7 +232,8 @@ class FolderWatch {
     std::error_code ec;
     for (const auto& entry : fs::directory_iterator(dir_, ec)) {
       const std::string path = entry.path().string();
-      if (!entry.is_regular_file(ec) || !isSceneFile(path) || taken_.count(path))
+      const bool hidden = entry.path().filename().string().rfind('.', 0) == 0;
+      if (hidden || !entry.is_regular_file(ec) || !isSceneFile(path) || taken_.count(path))
         continue;
       const auto size = entry.file_size(ec);
       const auto time = entry.last_write_time(ec);

@@ -3,12 +3,15 @@
  * SPDX-License-Identifier: BSD-3-Clause
  *
  * The Python module pcl_icf (python/README.md): numpy in, pose out. A thin shell over
- * pcl::icf::segmentation::localizeObject, pcl::icf::estimatePose and the io readers: arrays are
- * read where they lie (any strides), the GIL is released while the C++ works, and the C++
- * validate() messages reach Python as ValueError.
+ * pcl::icf::segmentation::localizeObject, pcl::icf::estimatePose, the tracker (tracker.cpp) and
+ * the io readers: arrays are read where they lie (any strides), the GIL is released while the
+ * C++ works, and the C++ validate() messages reach Python as ValueError.
  */
 #include "arrays.h"
+#include "model.h"
 #include "params.h"
+#include "results.h"
+#include "tracker.h"
 
 #include <pybind11/stl.h>
 
@@ -32,13 +35,6 @@ namespace seg = pcl::icf::segmentation;
 using namespace pybind11::literals;
 
 namespace {
-
-/** A prepared model and the scale its file was read at. */
-struct Model {
-  pcl::icf::IcfModel::ConstPtr icf;
-  std::string units;  ///< "m" or "mm": the mesh's units
-  std::size_t vertices = 0;
-};
 
 double msSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
@@ -75,35 +71,6 @@ std::shared_ptr<Model> buildModel(const pcl::PolygonMesh& mesh, const std::strin
   params.mesh.scale = model->units == "mm" ? 1e-3f : 1.f;
   model->icf = pcl::icf::IcfModel::build(mesh, params);
   return model;
-}
-
-py::object makeNamespace(py::dict fields) {
-  static const py::object simple = py::module_::import("types").attr("SimpleNamespace");
-  return simple(**fields);
-}
-
-/** The verification's terms (depth_verification.h), under the tool's JSON names. */
-py::dict verificationDict(const pcl::icf::DepthExplanation& v) {
-  using E = pcl::icf::DepthExplanation;
-  static const std::pair<const char*, double E::*> kTerms[] = {
-      {"confidence", &E::confidence},
-      {"supported", &E::supported},
-      {"seen_through", &E::seen_through},
-      {"occluded", &E::occluded},
-      {"below_support", &E::below_support},
-      {"isolated_conflicts", &E::isolated_conflicts},
-      {"missing", &E::missing},
-      {"on_background", &E::on_background},
-      {"visible_support", &E::visible_support},
-      {"residual", &E::residual},
-      {"silhouette_continuation", &E::silhouette_continuation},
-      {"occluder_continuation", &E::occluder_continuation}};
-  py::dict d;
-  for (const auto& [name, term] : kTerms)
-    d[name] = v.*term;
-  d["judged_pixels"] = v.model_pixels;
-  d["silhouette_pixels"] = v.silhouette_pixels;
-  return d;
 }
 
 /** The registration's own measures at the final pose (pose_verification.h). */
@@ -360,6 +327,7 @@ PYBIND11_MODULE(pcl_icf, m) {
   m.def("load_scene", &pip::loadScene, py::arg("path"),
         "Read a .pcd/.ply/.xyz scene with the project's reader: xyz and rgb are read-only views "
         "of the loaded cloud; camera_pose is the file's VIEWPOINT.");
+  pip::bindTracker(m);
   m.def("localize_defaults", &pip::localizerDefaults,
         "The keyword parameters of localize() with their C++ defaults.");
   m.def("estimate_pose_defaults", &pip::icfDefaults,

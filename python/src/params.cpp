@@ -42,6 +42,9 @@ FieldTable<pcl::icf::IcfParams> icfTable() {
   t["threads"] = PCL_ICF_FIELD(P, int, threads);
   t["exact_candidates"] = PCL_ICF_FIELD(P, std::size_t, exact_candidates);
   t["candidate_points"] = PCL_ICF_FIELD(P, std::size_t, candidate_points);
+  t["coarse_points"] = PCL_ICF_FIELD(P, std::size_t, coarse_points);
+  t["fine_iterations"] = PCL_ICF_FIELD(P, int, fine_iterations);
+  t["prescreen_share"] = PCL_ICF_FIELD(P, float, global.prescreen_share);
   t["inlier_distance"] = PCL_ICF_FIELD(P, float, acceptance.inlier_distance);
   t["min_surface_coverage"] = PCL_ICF_FIELD(P, double, acceptance.min_surface_coverage);
   t["max_rmse"] = PCL_ICF_FIELD(P, double, acceptance.max_rmse);
@@ -140,6 +143,21 @@ FieldTable<seg::LocalizerParams> localizerTable() {
   return t;
 }
 
+FieldTable<pcl::icf::tracking::TrackerParams> trackerTable() {
+  using P = pcl::icf::tracking::TrackerParams;
+  FieldTable<P> t;
+  // Every localize() keyword sets the search and the verification (TrackerParams::localizer).
+  for (auto& [name, field] : localizerTable())
+    t[name] = {[set = field.set](P& p, const py::handle& v) { set(p.localizer, v); },
+               [get = field.get](const P& p) { return get(p.localizer); }};
+  t["crop_margin"] = PCL_ICF_FIELD(P, float, crop_margin);
+  t["table_distance"] = PCL_ICF_FIELD(P, float, table_distance);
+  t["velocity_gain"] = PCL_ICF_FIELD(P, float, velocity_gain);
+  t["search_interval"] = PCL_ICF_FIELD(P, int, search_interval);
+  t["refine_max_points"] = PCL_ICF_FIELD(P, std::size_t, refinement.max_points);
+  return t;
+}
+
 #undef PCL_ICF_FIELD
 
 template <typename Params>
@@ -181,6 +199,11 @@ const FieldTable<pcl::icf::IcfParams>& icfFields() {
   return table;
 }
 
+const FieldTable<pcl::icf::tracking::TrackerParams>& trackerFields() {
+  static const auto table = trackerTable();
+  return table;
+}
+
 }  // namespace
 
 void applyLocalizerKwargs(seg::LocalizerParams& params, const py::kwargs& kwargs) {
@@ -189,6 +212,14 @@ void applyLocalizerKwargs(seg::LocalizerParams& params, const py::kwargs& kwargs
 
 void applyIcfKwargs(pcl::icf::IcfParams& params, const py::kwargs& kwargs) {
   apply(icfFields(), params, kwargs, "estimate_pose");
+}
+
+void applyTrackerKwargs(pcl::icf::tracking::TrackerParams& params, const py::kwargs& kwargs) {
+  apply(trackerFields(), params, kwargs, "Tracker");
+}
+
+py::dict trackerDefaults() {
+  return defaults(trackerFields());
 }
 
 py::dict localizerDefaults() {

@@ -8,6 +8,7 @@
 
 #include <pcl/icf/estimate_pose.h>
 #include <pcl/icf/segmentation/object_localizer.h>
+#include <pcl/icf/tracking/object_tracker.h>
 
 namespace pcl_icf_python {
 
@@ -22,6 +23,14 @@ void applyLocalizerKwargs(pcl::icf::segmentation::LocalizerParams& params,
 
 /** \brief The same for estimatePose's IcfParams (the icf subset of the names). */
 void applyIcfKwargs(pcl::icf::IcfParams& params, const py::kwargs& kwargs);
+
+/** \brief The same for the Tracker's TrackerParams: every localize() keyword (the search and
+ * the verification) and the tracker's own (crop_margin, table_distance, velocity_gain,
+ * search_interval, refine_max_points). */
+void applyTrackerKwargs(pcl::icf::tracking::TrackerParams& params, const py::kwargs& kwargs);
+
+/** \brief Every keyword Tracker() takes, with its C++ default. */
+py::dict trackerDefaults();
 
 /** \brief Every keyword localize() takes, with its C++ default. */
 py::dict localizerDefaults();

@@ -112,6 +112,9 @@ void IcfParams::validate() const {
     sac.validate();
   if (exact_candidates < 1)
     throw std::invalid_argument("IcfParams::exact_candidates = 0: must be at least 1");
+  if (fine_iterations < 1 || fine_iterations > 100000)
+    throw std::invalid_argument("IcfParams::fine_iterations = " + std::to_string(fine_iterations) +
+                                ": must lie in [1, 100000]");
   if (threads < 0 || threads > 1024)
     throw std::invalid_argument("IcfParams::threads = " + std::to_string(threads) +
                                 ": must lie in [0, 1024] (0 = all cores)");
@@ -180,6 +183,31 @@ PoseHypothesis fastSearch(const IcfModel& model, const std::vector<Eigen::Vector
   return best;
 }
 
+/** refinePose on at most \a coarse_points points, then on all of \a params' from the final
+ * Tukey radius for at most \a fine_iterations (the coarse stage has done the schedule). The
+ * callback sees the iterations of both stages numbered on. */
+RefinementResult refineCoarseToFine(const ClosestFaceQuery& index,
+                                    const std::vector<Eigen::Vector3f>& points,
+                                    const Eigen::Isometry3f& from, const RefinementParams& params,
+                                    std::size_t coarse_points, int fine_iterations, int threads,
+                                    const IterationCallback& callback) {
+  const std::size_t fine_points = params.max_points > 0 ? params.max_points : points.size();
+  if (coarse_points == 0 || fine_points <= 2 * coarse_points)
+    return refinePose(index, points, from, params, threads, callback);
+  RefinementParams coarse = params;
+  coarse.max_points = coarse_points;
+  const RefinementResult first = refinePose(index, points, from, coarse, threads, callback);
+  RefinementParams fine = params;
+  fine.initial_inlier_distance = params.final_inlier_distance;
+  fine.max_iterations = std::min(params.max_iterations, fine_iterations);
+  IterationCallback numbered;
+  if (callback)
+    numbered = [&](const Eigen::Isometry3f& t, int k) { callback(t, first.iterations + k); };
+  RefinementResult out = refinePose(index, points, first.scene_to_model, fine, threads, numbered);
+  out.iterations += first.iterations;
+  return out;
+}
+
 }  // namespace
 
 IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
@@ -210,7 +238,10 @@ IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>
   };
   auto refineAndMeasure = [&](const Eigen::Isometry3f& from, const IterationCallback& cb) {
     Outcome o;
-    o.refined = refinePose(model.index(), points, from, params.refinement, threads, cb);
+    o.refined = guess
+                    ? refinePose(model.index(), points, from, params.refinement, threads, cb)
+                    : refineCoarseToFine(model.index(), points, from, params.refinement,
+                                         params.coarse_points, params.fine_iterations, threads, cb);
     o.quality = measurePoseQuality(
         model, points, o.refined.scene_to_model, camera, params.acceptance.inlier_distance,
         params.acceptance.gate_distance, params.objective, params.acceptance.visibility, threads);

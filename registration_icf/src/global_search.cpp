@@ -45,6 +45,8 @@ void GlobalSearchParams::validate() const {
     fail("fine_kernel", fine_kernel, "must be positive and finite");
   if (keep < 1)
     fail("keep", static_cast<double>(keep), "must be at least 1");
+  if (!(prescreen_share >= 0.f && prescreen_share <= 1.f))
+    fail("prescreen_share", prescreen_share, "must lie in [0, 1]");
   if (!(merged_cluster_ratio > 0.f) || !std::isfinite(merged_cluster_ratio))
     fail("merged_cluster_ratio", merged_cluster_ratio, "must be positive and finite");
   if (!(anchor_spacing > 0.01f) || !std::isfinite(anchor_spacing))
@@ -217,6 +219,34 @@ bool isDistinct(const PoseHypothesis& h, const std::vector<PoseHypothesis>& kept
   return true;
 }
 
+/** The cascade's second stage: the best prescreen_share of \a coarse by their prescreen
+ * score (at least 20 x keep; ties by index) scored again on their anchor's whole subsample;
+ * the rest drop below every one of them. */
+void scoreTheBestOnTheirSubsets(std::vector<PoseHypothesis>& coarse,
+                                const std::vector<std::size_t>& anchor_of,
+                                const std::vector<SearchAnchor>& anchors, const IcfModel& model,
+                                const GlobalSearchParams& params, int threads) {
+  const std::size_t chosen =
+      std::min(coarse.size(),
+               std::max<std::size_t>(
+                   20 * params.keep,
+                   static_cast<std::size_t>(std::ceil(params.prescreen_share * coarse.size()))));
+  std::vector<std::size_t> order(coarse.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return coarse[a].score > coarse[b].score; });
+  for (std::size_t i = chosen; i < order.size(); ++i)
+    coarse[order[i]].score = -1.0;  // kernel scores are >= 0
+  const int n = static_cast<int>(chosen);
+#pragma omp parallel for schedule(static) num_threads(std::max(1, threads))
+  for (int k = 0; k < n; ++k) {
+    PoseHypothesis& h = coarse[order[static_cast<std::size_t>(k)]];
+    h.score = fieldKernelScore(model.field(),
+                               anchors[anchor_of[order[static_cast<std::size_t>(k)]]].subset,
+                               h.scene_to_model, params.coarse_kernel);
+  }
+}
+
 }  // namespace
 
 std::vector<PoseHypothesis> globalSearch(const IcfModel& model,
@@ -243,6 +273,15 @@ std::vector<PoseHypothesis> globalSearch(const IcfModel& model,
   for (std::size_t r = 0; r < rotations.size(); ++r)
     visible_centroids[r] = visibleCentroid(model, params.centroid_samples,
                                            rotations[r].toRotationMatrix().transpose() * view);
+  // The cascade's first stage: the first prescreen_points of each anchor's random subset.
+  std::vector<std::vector<Eigen::Vector3f>> prescreen;
+  const bool prescreened =
+      params.prescreen_points > 0 && params.prescreen_share > 0.f && params.prescreen_share < 1.f;
+  if (prescreened)
+    for (const SearchAnchor& a : anchors)
+      prescreen.emplace_back(a.subset.begin(),
+                             a.subset.begin() + static_cast<std::ptrdiff_t>(std::min(
+                                                    params.prescreen_points, a.subset.size())));
   std::vector<PoseHypothesis> coarse(rotations.size() * anchors.size());
   std::vector<std::size_t> anchor_of(coarse.size());
   const int count = static_cast<int>(coarse.size());
@@ -256,10 +295,12 @@ std::vector<PoseHypothesis> globalSearch(const IcfModel& model,
     model_to_scene.translation() = anchors[a].centre - R * visible_centroids[r];
     PoseHypothesis& h = coarse[static_cast<std::size_t>(k)];
     h.scene_to_model = model_to_scene.inverse();
-    h.score =
-        fieldKernelScore(model.field(), anchors[a].subset, h.scene_to_model, params.coarse_kernel);
+    h.score = fieldKernelScore(model.field(), prescreened ? prescreen[a] : anchors[a].subset,
+                               h.scene_to_model, params.coarse_kernel);
     anchor_of[static_cast<std::size_t>(k)] = a;
   }
+  if (prescreened)
+    scoreTheBestOnTheirSubsets(coarse, anchor_of, anchors, model, params, threads);
   std::vector<std::size_t> order(coarse.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),

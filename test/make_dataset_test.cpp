@@ -186,6 +186,71 @@ TEST_F(MakeDataset, SequenceFramesAgreeWithTheirGroundTruth) {
   EXPECT_NE(slurp(seq / "truth.json"), slurp(dir_ / "c" / "sequence" / "seq_000" / "truth.json"));
 }
 
+// pcl_icf_track_score on made-up tracker outputs: the truth itself (a perfect tracker) meets
+// every bar; a pose while absent, a pose 2 cm off and a late loss are each reported.
+TEST_F(MakeDataset, TrackScoreOfAPerfectAndOfAFaultyTracker) {
+  ASSERT_EQ(
+      makeDataset("--kind sequence --frames 12 --seed 7 --out " + (dir_ / "a").string(), dir_).code,
+      0);
+  const fs::path seq = dir_ / "a" / "sequence" / "seq_000";
+  const json truth = json::parse(slurp(seq / "truth.json"));
+  const std::string moved = truth.at("objects").at(0).at("name");
+  const int gone = truth.at("objects").at(0).at("absent").at(0);
+  enum Fault { kNone, kPoseWhileAbsent, kOff, kLateLoss };
+  auto write = [&](Fault fault) {
+    std::ofstream out(seq / "poses.jsonl");
+    for (const auto& frame : truth.at("frames")) {
+      const int f = frame.at("frame");
+      json line = {{"frame", f}, {"file", frame.at("file")}, {"ms", 20.0}};
+      for (const auto& o : frame.at("objects")) {
+        if (o.at("name") == "TallCylinder")
+          continue;
+        bool posed = o.at("present").get<bool>();
+        json pose = o.at("pose");
+        if (o.at("name") == moved && f == gone && (fault == kPoseWhileAbsent || fault == kLateLoss))
+          posed = true;
+        if (o.at("name") == moved && f == gone + 1 && fault == kLateLoss)
+          posed = true;
+        if (o.at("name") == moved && f == 1 && fault == kOff)
+          pose[0][3] = pose[0][3].get<double>() + 0.02;
+        line["objects"].push_back({{"name", o.at("name")},
+                                   {"state", posed ? "tracking" : "lost"},
+                                   {"pose", posed ? pose : json(nullptr)},
+                                   {"refine_ms", 1.0}});
+      }
+      out << line.dump() << "\n";
+    }
+  };
+  auto score = [&](std::string& text) {
+    const fs::path out = dir_ / "score.txt";
+    const int status = std::system(
+        (std::string(PCL_ICF_TRACK_SCORE) + " " + seq.string() + " >" + out.string() + " 2>&1")
+            .c_str());
+    text = slurp(out);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  std::string text;
+  write(kNone);
+  EXPECT_EQ(score(text), 0) << text;
+  EXPECT_NE(text.find("| 0/"), std::string::npos) << "no pose while absent\n" << text;
+  EXPECT_EQ(text.find("missed:"), std::string::npos) << text;
+  write(kPoseWhileAbsent);
+  EXPECT_EQ(score(text), 1) << text;
+  EXPECT_NE(text.find("no pose while absent: NOT met"), std::string::npos) << text;
+  write(kOff);
+  EXPECT_EQ(score(text), 1) << text;
+  EXPECT_NE(text.find("frame 1 (visible"), std::string::npos) << text;
+  EXPECT_NE(text.find("20.0 mm"), std::string::npos) << text;
+  write(kLateLoss);
+  EXPECT_EQ(score(text), 1) << text;
+  EXPECT_NE(text.find("loss within 3 frames: met"), std::string::npos) << "lost after 2\n" << text;
+  EXPECT_NE(text.find("| 2 |"), std::string::npos) << text;
+  // Bad input: no truth.
+  const int status = std::system(
+      (std::string(PCL_ICF_TRACK_SCORE) + " " + dir_.string() + " >/dev/null 2>&1").c_str());
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2);
+}
+
 TEST_F(MakeDataset, BadOptionsAreRefused) {
   const std::string out = " --out " + (dir_ / "x").string();
   const struct {

@@ -6,7 +6,7 @@
 #include "support/synthetic_models.h"
 
 #include <pcl/icf/io/mesh_io.h>
-#include <pcl/icf/segmentation/object_localizer.h>
+#include <pcl/icf/localization/object_localizer.h>
 #include <pcl/io/pcd_io.h>
 
 #include <algorithm>
@@ -29,12 +29,12 @@ void time(const std::string& name, const pcl::PointCloud<PointT>& scene, const I
   std::size_t clusters = 0;
   bool found = false;
   for (int r = 0; r < runs; ++r) {
-    const auto result = segmentation::localizeObject(scene, model);
+    const auto result = localization::localizeObject(scene, model);
     seg.push_back(result.segmentation_ms);
     reg.push_back(result.registration_ms);
     total.push_back(result.total_ms);
     clusters = result.clusters.size();
-    found = result.status == segmentation::LocalizationStatus::Found;
+    found = result.status == localization::LocalizationStatus::Found;
   }
   std::printf("| %s | %zu | %zu | %s | %.1f | %.1f | %.1f |\n", name.c_str(), scene.size(),
               clusters, found ? "yes" : "no", median(seg), median(reg), median(total));

@@ -17,7 +17,7 @@
 #include <pcl/icf/icf_model.h>
 #include <pcl/icf/io/mesh_io.h>
 #include <pcl/icf/io/scene_io.h>
-#include <pcl/icf/segmentation/object_localizer.h>
+#include <pcl/icf/localization/object_localizer.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
 
@@ -48,8 +48,8 @@ using pcl::icf::io::EmptyCloudError;
 using pcl::icf::io::FileError;
 using pcl::icf::io::loadPolygonMesh;
 using pcl::icf::io::loadSceneCloud;
-using pcl::icf::segmentation::LocalizationStatus;
-using pcl::icf::segmentation::LocalizerParams;
+using pcl::icf::localization::LocalizationStatus;
+using pcl::icf::localization::LocalizerParams;
 namespace test = pcl::icf::test;
 
 /** The tests run under ASan/UBSan too (PCL_ICF_SANITIZED=1): the address-space limit is then
@@ -430,7 +430,7 @@ TEST_F(HostileInput, CoordinatesOf1e30) {
     test::TabletopScene scene = test::makeTabletopScene(
         {box5}, {Eigen::Vector3d(0, 0, 0.3)}, test::CameraIntrinsics(), test::ScanNoise::none());
     scene.scan.cloud->at(0).getVector3fMap() = Eigen::Vector3f::Constant(far);
-    const auto found = pcl::icf::segmentation::localizeObject(*scene.scan.cloud, boxModel());
+    const auto found = pcl::icf::localization::localizeObject(*scene.scan.cloud, boxModel());
     ASSERT_EQ(found.status, LocalizationStatus::Found) << found.message;
     const auto e = test::poseError(
         Eigen::Isometry3d(found.clusters[found.best].icf.object_pose.cast<double>()),
@@ -446,7 +446,7 @@ TEST_F(HostileInput, ASinglePoint) {
   const IcfResult r = estimate(boxModel(), {cloud->front().getVector3fMap()});
   EXPECT_EQ(r.status, IcfStatus::TooFewPoints);
   EXPECT_EQ(r.points, 1u);
-  const auto found = pcl::icf::segmentation::localizeObject(*cloud, boxModel());
+  const auto found = pcl::icf::localization::localizeObject(*cloud, boxModel());
   EXPECT_EQ(found.status, LocalizationStatus::BadScene);
   EXPECT_NE(found.message.find("TooFewPoints"), std::string::npos) << found.message;
 }
@@ -473,7 +473,7 @@ TEST_F(HostileInput, FlatCluster) {
       wall.push_back(pcl::PointXYZ(0.002f * i, 0.002f * j, 0.8f));
   LocalizerParams params;
   params.segment = false;
-  const auto found = pcl::icf::segmentation::localizeObject(wall, boxModel(), params);
+  const auto found = pcl::icf::localization::localizeObject(wall, boxModel(), params);
   EXPECT_EQ(found.status, LocalizationStatus::NotFound) << found.message;
   // The cluster, and what its best pose left unexplained (searched again when nothing was
   // accepted): each rejected with its reason.
@@ -579,7 +579,7 @@ TEST_F(HostileInput, MillimetreDataWithMetreParameters) {
       {box}, {Eigen::Vector3d(0, 0, 0.3)}, test::CameraIntrinsics(), test::ScanNoise::none());
   pcl::PointCloud<pcl::PointXYZRGB> mm;
   pcl::transformPointCloud(*scene.scan.cloud, mm, Eigen::Affine3f(Eigen::Scaling(1000.f)));
-  const auto found = pcl::icf::segmentation::localizeObject(mm, boxModel());
+  const auto found = pcl::icf::localization::localizeObject(mm, boxModel());
   EXPECT_EQ(found.status, LocalizationStatus::BadScene);
   EXPECT_NE(found.message.find("SceneUnitsSuspect"), std::string::npos) << found.message;
   // One cluster in millimetres against a metre model: not accepted.
@@ -605,12 +605,12 @@ TEST_F(HostileInput, ASceneWithNoTable) {
   object.mesh = &mesh;
   object.pose = v.truth;
   const test::Scan scan = test::renderScan({object}, test::CameraIntrinsics(), test::ScanNoise());
-  const auto found = pcl::icf::segmentation::localizeObject(*scan.cloud, boxModel());
+  const auto found = pcl::icf::localization::localizeObject(*scan.cloud, boxModel());
   EXPECT_NE(found.status, LocalizationStatus::Found);
   EXPECT_FALSE(found.message.empty());
   LocalizerParams whole;
   whole.segment = false;
-  const auto as_cluster = pcl::icf::segmentation::localizeObject(*scan.cloud, boxModel(), whole);
+  const auto as_cluster = pcl::icf::localization::localizeObject(*scan.cloud, boxModel(), whole);
   ASSERT_EQ(as_cluster.status, LocalizationStatus::Found) << as_cluster.message;
   const auto e = test::poseError(
       Eigen::Isometry3d(as_cluster.clusters[as_cluster.best].icf.object_pose.cast<double>()),

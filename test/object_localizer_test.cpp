@@ -9,8 +9,8 @@
 
 #include <pcl/common/transforms.h>
 #include <pcl/icf/io/mesh_io.h>
-#include <pcl/icf/pose_alternatives.h>
-#include <pcl/icf/segmentation/object_localizer.h>
+#include <pcl/icf/localization/object_localizer.h>
+#include <pcl/icf/localization/pose_alternatives.h>
 #include <pcl/io/pcd_io.h>
 
 #include <gtest/gtest.h>
@@ -25,8 +25,8 @@
 namespace {
 
 using namespace pcl::icf;
-using pcl::icf::segmentation::LocalizationStatus;
-using pcl::icf::segmentation::LocalizerParams;
+using pcl::icf::localization::LocalizationStatus;
+using pcl::icf::localization::LocalizerParams;
 
 struct Scenario {
   std::string name;
@@ -76,7 +76,7 @@ TEST_P(ThesisScenarios, FindsTheTargetInTheRightClusterAtTheRightPose) {
   LocalizerParams params;
   if (s.use_colour)
     params.colour.expected = models.front().rgb;
-  const auto result = segmentation::localizeObject(*scene.scan.cloud, *model, params);
+  const auto result = localization::localizeObject(*scene.scan.cloud, *model, params);
   for (std::size_t k = 0; k < result.clusters.size(); ++k) {
     const auto& c = result.clusters[k];
     std::cout << s.name << " cluster " << k << " (label "
@@ -123,16 +123,16 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(Localizer, BadScenesGiveAStatus) {
   const IcfModel::ConstPtr model = IcfModel::build(test::thesisModel("Box5").mesh);
   pcl::PointCloud<pcl::PointXYZ> empty;
-  EXPECT_EQ(segmentation::localizeObject(empty, *model).status, LocalizationStatus::BadScene);
+  EXPECT_EQ(localization::localizeObject(empty, *model).status, LocalizationStatus::BadScene);
   pcl::PointCloud<pcl::PointXYZ> three;
   for (int i = 0; i < 3; ++i)
     three.push_back(pcl::PointXYZ(0.01f * i, 0.f, 1.f));
-  const auto r = segmentation::localizeObject(three, *model);
+  const auto r = localization::localizeObject(three, *model);
   EXPECT_NE(r.status, LocalizationStatus::Found);
   EXPECT_FALSE(r.message.empty());
   LocalizerParams whole;
   whole.segment = false;  // a 3-point "cluster": too few points, a status not a crash
-  const auto w = segmentation::localizeObject(three, *model, whole);
+  const auto w = localization::localizeObject(three, *model, whole);
   EXPECT_EQ(w.status, LocalizationStatus::NotFound);
   ASSERT_EQ(w.clusters.size(), 1u);
   EXPECT_EQ(w.clusters[0].icf.status, IcfStatus::TooFewPoints);
@@ -153,7 +153,7 @@ TEST(Localizer, SameAnswerInAnyCameraFrame) {
   const IcfModel::ConstPtr model = IcfModel::build(models.front().mesh);
   LocalizerParams params;
   params.threads = 1;
-  const auto in_camera = segmentation::localizeObject(*scene.scan.cloud, *model, params);
+  const auto in_camera = localization::localizeObject(*scene.scan.cloud, *model, params);
   ASSERT_EQ(in_camera.status, LocalizationStatus::Found) << in_camera.message;
 
   // A camera 1.2 m up on a robot, looking forward and down, as TF would give it.
@@ -165,7 +165,7 @@ TEST(Localizer, SameAnswerInAnyCameraFrame) {
   pcl::PointCloud<pcl::PointXYZRGB> in_base;
   pcl::transformPointCloud(*scene.scan.cloud, in_base, camera_to_base.matrix());
   params.camera_pose = camera_to_base;
-  const auto moved = segmentation::localizeObject(in_base, *model, params);
+  const auto moved = localization::localizeObject(in_base, *model, params);
   ASSERT_EQ(moved.status, LocalizationStatus::Found) << moved.message;
   EXPECT_EQ(moved.best, in_camera.best);
   EXPECT_TRUE(moved.camera_pose.isApprox(camera_to_base));
@@ -188,7 +188,7 @@ TEST(Localizer, SameAnswerInAnyCameraFrame) {
   params.camera_pose.reset();
   in_base.sensor_origin_.head<3>() = camera_to_base.translation();
   in_base.sensor_orientation_ = Eigen::Quaternionf(camera_to_base.linear());
-  const auto from_viewpoint = segmentation::localizeObject(in_base, *model, params);
+  const auto from_viewpoint = localization::localizeObject(in_base, *model, params);
   ASSERT_EQ(from_viewpoint.status, LocalizationStatus::Found) << "VIEWPOINT honoured";
   EXPECT_EQ(from_viewpoint.best, moved.best);
   // The orientation went through a float quaternion: the same rounding argument as above, and
@@ -210,15 +210,15 @@ TEST(Localizer, BadCameraPosesAreRefused) {
   Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
   pose.translation().x() = std::numeric_limits<float>::quiet_NaN();
   params.camera_pose = pose;
-  EXPECT_THROW(segmentation::localizeObject(cloud, *model, params), std::invalid_argument);
+  EXPECT_THROW(localization::localizeObject(cloud, *model, params), std::invalid_argument);
   pose = Eigen::Isometry3f::Identity();
   pose.linear() *= 2.f;  // a scale, not a rotation
   params.camera_pose = pose;
-  EXPECT_THROW(segmentation::localizeObject(cloud, *model, params), std::invalid_argument);
+  EXPECT_THROW(localization::localizeObject(cloud, *model, params), std::invalid_argument);
   // A camera turned the wrong way: every point behind it.
   pose = Eigen::Isometry3f(Eigen::AngleAxisf(static_cast<float>(M_PI), Eigen::Vector3f::UnitY()));
   params.camera_pose = pose;
-  const auto r = segmentation::localizeObject(cloud, *model, params);
+  const auto r = localization::localizeObject(cloud, *model, params);
   EXPECT_EQ(r.status, LocalizationStatus::BadScene);
   EXPECT_NE(r.message.find("behind the camera"), std::string::npos) << r.message;
 }
@@ -243,11 +243,11 @@ TEST(Localizer, ACameraBelowTheTableIsRefused) {
   r.col(1) = r.col(2).cross(r.col(0));
   LocalizerParams params;
   params.camera_pose = Eigen::Translation3f(below) * Eigen::Isometry3f(r);
-  const auto result = segmentation::localizeObject(*scene.scan.cloud, *model, params);
+  const auto result = localization::localizeObject(*scene.scan.cloud, *model, params);
   EXPECT_EQ(result.status, LocalizationStatus::BadScene) << result.message;
   EXPECT_NE(result.message.find("wrong side of the table"), std::string::npos) << result.message;
   // The right camera finds the box.
-  EXPECT_EQ(segmentation::localizeObject(*scene.scan.cloud, *model).status,
+  EXPECT_EQ(localization::localizeObject(*scene.scan.cloud, *model).status,
             LocalizationStatus::Found);
 }
 
@@ -272,7 +272,7 @@ TEST(Localizer, TargetWithASmallTouchingNeighbour) {
   }
   ASSERT_GT(cube_points, 0u);
   const IcfModel::ConstPtr model = IcfModel::build(salt.mesh);
-  const auto result = segmentation::localizeObject(*scene.scan.cloud, *model);
+  const auto result = localization::localizeObject(*scene.scan.cloud, *model);
   ASSERT_EQ(result.status, LocalizationStatus::Found)
       << result.message << " (salt " << salt_points << " points, cube " << cube_points << ")";
   // The premise: segmentation put both objects into one cluster.
@@ -300,25 +300,25 @@ TEST(Localizer, TargetWithASmallTouchingNeighbour) {
 // dropped (a merged cluster and its segment), rejected ones never, at most max_instances.
 TEST(Localizer, RanksInstancesEachPointInOneAtMost) {
   auto cluster = [](std::vector<pcl::index_t> points, double score, bool accepted) {
-    segmentation::ClusterLocalization c;
+    localization::ClusterLocalization c;
     c.indices.indices = points;
     c.explained = std::move(points);
     c.score = score;
     c.accepted = accepted;
     return c;
   };
-  const std::vector<segmentation::ClusterLocalization> clusters = {
+  const std::vector<localization::ClusterLocalization> clusters = {
       cluster({0, 1, 2, 3, 4, 5}, 0.70, true),  // merged: shares points with 2 and 3
       cluster({10, 11}, 0.95, false),           // the best score, but rejected
       cluster({3, 4, 5}, 0.90, true),           // segment of 0
       cluster({0, 1, 2}, 0.80, true),           // segment of 0
       cluster({20, 21}, 0.80, true),            // ties with 3: the lower index first
   };
-  EXPECT_EQ(segmentation::rankInstances(clusters, 10), (std::vector<int>{2, 3, 4}));
-  EXPECT_EQ(segmentation::rankInstances(clusters, 2), (std::vector<int>{2, 3}));
-  EXPECT_EQ(segmentation::rankInstances(clusters, 1), (std::vector<int>{2}));
+  EXPECT_EQ(localization::rankInstances(clusters, 10), (std::vector<int>{2, 3, 4}));
+  EXPECT_EQ(localization::rankInstances(clusters, 2), (std::vector<int>{2, 3}));
+  EXPECT_EQ(localization::rankInstances(clusters, 1), (std::vector<int>{2}));
   // Cluster 0 shares 3 of its 6 points with 2: kept only when half may be shared.
-  EXPECT_EQ(segmentation::rankInstances(clusters, 10, 0.5), (std::vector<int>{2, 3, 4, 0}));
+  EXPECT_EQ(localization::rankInstances(clusters, 10, 0.5), (std::vector<int>{2, 3, 4, 0}));
 }
 
 // Two copies of one object on a table, apart and touching (1 cm apart: one Euclidean
@@ -336,7 +336,7 @@ TEST_P(TwoCopies, GiveTwoInstances) {
   const IcfModel::ConstPtr model = IcfModel::build(box.mesh);
   LocalizerParams params;
   params.max_instances = 2;
-  const auto two = segmentation::localizeObject(*scene.scan.cloud, *model, params);
+  const auto two = localization::localizeObject(*scene.scan.cloud, *model, params);
   std::ostringstream candidates;
   for (std::size_t k = 0; k < two.clusters.size(); ++k) {
     const auto& c = two.clusters[k];
@@ -360,7 +360,7 @@ TEST_P(TwoCopies, GiveTwoInstances) {
     EXPECT_LE(error.rotation_deg, 3.0) << "instance on object " << label;
   }
   EXPECT_EQ(labels.size(), 2u) << "one instance per copy";
-  const auto one = segmentation::localizeObject(*scene.scan.cloud, *model);
+  const auto one = localization::localizeObject(*scene.scan.cloud, *model);
   ASSERT_EQ(one.instances.size(), 1u);
   EXPECT_EQ(one.best, one.instances.front());
 }
@@ -407,7 +407,7 @@ TEST_P(YcbObjects, FoundInTheMergedClusterWithin1cm) {
   ASSERT_EQ(pcl::io::loadPCDFile(scene_path, scene), 0);
   const pcl::PolygonMesh mesh = io::loadPolygonMesh(mesh_path);
   const IcfModel::ConstPtr model = IcfModel::build(mesh);
-  const auto result = segmentation::localizeObject(scene, *model);
+  const auto result = localization::localizeObject(scene, *model);
   const Eigen::Isometry3d truth = ycbTruth(gt_path, object);
   for (const auto& c : result.clusters)
     std::cout
@@ -422,7 +422,7 @@ TEST_P(YcbObjects, FoundInTheMergedClusterWithin1cm) {
   const auto& best = result.clusters[static_cast<std::size_t>(result.best)];
   const Eigen::Isometry3d estimate(best.icf.object_pose.cast<double>());
   // The box's own frame: surface centroid and principal axes, its sides along them.
-  const PrincipalAxes axes = principalAxes(*model);
+  const localization::PrincipalAxes axes = localization::principalAxes(*model);
   Eigen::Isometry3d box = Eigen::Isometry3d::Identity();
   box.translation() = axes.centre.cast<double>();
   box.linear() = axes.axes.cast<double>();

@@ -6,7 +6,7 @@
 #include "support/depth_camera.h"
 #include "support/synthetic_models.h"
 
-#include <pcl/icf/pose_alternatives.h>
+#include <pcl/icf/localization/pose_alternatives.h>
 
 #include <gtest/gtest.h>
 
@@ -15,6 +15,7 @@
 namespace {
 
 using namespace pcl::icf;
+using namespace pcl::icf::localization;
 
 struct View {
   IcfModel::ConstPtr model;

@@ -7,14 +7,14 @@
 
 #include <pcl/icf/estimate_pose.h>
 #include <pcl/icf/icf_model.h>
-#include <pcl/icf/segmentation/object_localizer.h>
+#include <pcl/icf/localization/object_localizer.h>
 
 #include <gtest/gtest.h>
 
 namespace {
 
 using namespace pcl::icf;
-using segmentation::LocalizerParams;
+using localization::LocalizerParams;
 
 std::vector<Eigen::Vector3f> boxView(std::uint64_t seed) {
   Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
@@ -42,13 +42,13 @@ TEST(ThreadDeterminism, LocalizerOnAScene) {
                                Eigen::Vector3d(-0.15, -0.05, 1.0)},
                               test::CameraIntrinsics(), noise);
   const IcfModel::ConstPtr model = IcfModel::build(models.front().mesh);
-  std::vector<segmentation::Localization> runs;
+  std::vector<localization::Localization> runs;
   for (int threads : {1, 2, 3}) {
     LocalizerParams params;
     params.threads = threads;
     params.icf.threads = threads;
     params.icf.seed = 7;
-    runs.push_back(segmentation::localizeObject(*scene.scan.cloud, *model, params));
+    runs.push_back(localization::localizeObject(*scene.scan.cloud, *model, params));
   }
   ASSERT_GE(runs[0].clusters.size(), 1u);
   for (std::size_t r = 1; r < runs.size(); ++r) {

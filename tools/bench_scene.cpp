@@ -14,16 +14,16 @@
 namespace pcl_icf_tools {
 namespace bench {
 
-namespace seg = pcl::icf::segmentation;
+namespace localization = pcl::icf::localization;
 using Clock = std::chrono::steady_clock;
 
 namespace {
 
 /** The accepted cluster, else the best-scoring one (nullptr when none was judged). */
-const seg::ClusterLocalization* topCluster(const seg::Localization& loc) {
+const localization::ClusterLocalization* topCluster(const localization::Localization& loc) {
   if (loc.best >= 0)
     return &loc.clusters[static_cast<std::size_t>(loc.best)];
-  const seg::ClusterLocalization* top = nullptr;
+  const localization::ClusterLocalization* top = nullptr;
   for (const auto& c : loc.clusters)
     if (!top || c.score > top->score)
       top = &c;
@@ -31,7 +31,7 @@ const seg::ClusterLocalization* topCluster(const seg::Localization& loc) {
 }
 
 /** The verification's terms of \a c, "supported=0.91 seen_through=0.02 ..." (for the CSV). */
-std::string verificationTerms(const seg::ClusterLocalization& c) {
+std::string verificationTerms(const localization::ClusterLocalization& c) {
   const auto& e = c.verification;
   char text[512];
   std::snprintf(text, sizeof(text),
@@ -48,8 +48,8 @@ std::string verificationTerms(const seg::ClusterLocalization& c) {
 }
 
 /** "Found: cluster 3 of 19, score 0.71" or "NotFound: 19 clusters; best score 0.42: why". */
-std::string describe(const seg::Localization& loc) {
-  std::string text = std::string(seg::toString(loc.status)) + ": ";
+std::string describe(const localization::Localization& loc) {
+  std::string text = std::string(localization::toString(loc.status)) + ": ";
   const auto n = std::to_string(loc.clusters.size());
   char score[32];
   if (loc.best >= 0) {
@@ -57,7 +57,7 @@ std::string describe(const seg::Localization& loc) {
     std::snprintf(score, sizeof(score), "%.2f", best.score);
     return text + "cluster " + std::to_string(loc.best) + " of " + n + ", score " + score;
   }
-  const seg::ClusterLocalization* top = topCluster(loc);
+  const localization::ClusterLocalization* top = topCluster(loc);
   if (!top)
     return text + (loc.message.empty() ? "no cluster" : loc.message);
   std::snprintf(score, sizeof(score), "%.2f", top->score);
@@ -66,16 +66,16 @@ std::string describe(const seg::Localization& loc) {
 
 template <typename PointT>
 MethodRun localize(const pcl::PointCloud<PointT>& scene, const PreparedModel& model,
-                   const seg::LocalizerParams& params) {
+                   const localization::LocalizerParams& params) {
   MethodRun run;
   const auto start = Clock::now();
-  const seg::Localization loc = seg::localizeObject(scene, *model.icf, params);
+  const localization::Localization loc = localization::localizeObject(scene, *model.icf, params);
   run.ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-  run.converged = loc.status == seg::LocalizationStatus::Found && loc.best >= 0;
+  run.converged = loc.status == localization::LocalizationStatus::Found && loc.best >= 0;
   if (run.converged)
     run.object_pose = loc.clusters[static_cast<std::size_t>(loc.best)].icf.object_pose;
   run.detail = describe(loc);
-  if (const seg::ClusterLocalization* top = topCluster(loc)) {
+  if (const localization::ClusterLocalization* top = topCluster(loc)) {
     run.confidence = top->verification.confidence;
     run.verification = verificationTerms(*top);
     for (const auto& alt : top->alternatives)
@@ -110,7 +110,7 @@ SceneInput loadScene(const CaseSpec& c) {
 }
 
 MethodRun runScene(const SceneInput& scene, const PreparedModel& model,
-                   const seg::LocalizerParams& params) {
+                   const localization::LocalizerParams& params) {
   return scene.rgba ? localize(*scene.rgba, model, params) : localize(*scene.xyz, model, params);
 }
 

@@ -9,7 +9,7 @@
 #include "bench_manifest.h"
 #include "bench_methods.h"
 
-#include <pcl/icf/segmentation/object_localizer.h>
+#include <pcl/icf/localization/object_localizer.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
@@ -30,12 +30,12 @@ struct SceneInput {
  * the case when it cannot be read or holds no finite point. */
 SceneInput loadScene(const CaseSpec& c);
 
-/** pcl::icf::segmentation::localizeObject on the whole scene; the time is the whole call.
+/** pcl::icf::localization::localizeObject on the whole scene; the time is the whole call.
  * converged: the status is Found; the pose: the best accepted cluster's (identity otherwise);
  * detail: the status, the clusters tried and the best one's score, or why the best-scoring
  * cluster was rejected. */
 MethodRun runScene(const SceneInput& scene, const PreparedModel& model,
-                   const pcl::icf::segmentation::LocalizerParams& params);
+                   const pcl::icf::localization::LocalizerParams& params);
 
 }  // namespace bench
 }  // namespace pcl_icf_tools

@@ -30,7 +30,7 @@
 //   icp-p2plane   pcl::IterativeClosestPointWithNormals, same start and samples
 //   sacia+icp     FPFH + pcl::SampleConsensusInitialAlignment, then pcl::IterativeClosestPoint
 //   prerej+icp    FPFH + pcl::SampleConsensusPrerejective, then pcl::IterativeClosestPoint
-//   icf-scene     pcl::icf::segmentation::localizeObject on the WHOLE scene (segmentation,
+//   icf-scene     pcl::icf::localization::localizeObject on the WHOLE scene (segmentation,
 //                 every cluster, acceptance, ranking), ignoring cluster=; its time is the
 //                 whole call. Only when named in --methods.
 //
@@ -228,8 +228,8 @@ struct CaseInput {
 };
 
 /** icf-scene's parameters: the localizer's defaults with the bench's threads and SAC fields. */
-pcl::icf::segmentation::LocalizerParams sceneParams(const Options& o) {
-  pcl::icf::segmentation::LocalizerParams p;
+pcl::icf::localization::LocalizerParams sceneParams(const Options& o) {
+  pcl::icf::localization::LocalizerParams p;
   p.threads = o.threads;
   p.icf.threads = o.threads;
   p.icf.sac = o.sac;

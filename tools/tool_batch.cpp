@@ -22,7 +22,7 @@
 namespace pcl_icf_tool {
 
 namespace fs = std::filesystem;
-namespace seg = pcl::icf::segmentation;
+namespace localization = pcl::icf::localization;
 
 bool isSceneFile(const std::string& path) {
   const std::string ext = pcl::icf::io::fileExtension(path);
@@ -192,7 +192,8 @@ SceneOutcome runScene(std::size_t i, const std::string& scene_path, const Model&
     }
     char buf[512];
     std::snprintf(buf, sizeof buf, "%-32s %-10s %7s %7s %8.2f  %s",
-                  fs::path(scene_path).filename().string().c_str(), seg::toString(run.loc.status),
+                  fs::path(scene_path).filename().string().c_str(),
+                  localization::toString(run.loc.status),
                   run.loc.best >= 0 ? std::to_string(run.loc.best).c_str() : "-",
                   run.loc.best >= 0 ? fixed(result["best"]["score"].get<double>(), 3).c_str() : "-",
                   run.ms / 1e3, translation.c_str());

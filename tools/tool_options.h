@@ -7,7 +7,7 @@
 /** \file
  * \brief pcl_icf_tool's command line: the options, their parsing and the usage text. */
 
-#include <pcl/icf/segmentation/object_localizer.h>
+#include <pcl/icf/localization/object_localizer.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -62,7 +62,7 @@ struct ToolOptions {
   Units units = Units::Auto;        ///< --units
   Units model_units = Units::Auto;  ///< --model-units
 
-  pcl::icf::segmentation::LocalizerParams params;  ///< everything the localizer gets
+  pcl::icf::localization::LocalizerParams params;  ///< everything the localizer gets
   std::string json;                                ///< --json FILE
   std::string output;                              ///< --output FILE.ply
   std::string render;                              ///< --render FILE.png

@@ -13,6 +13,7 @@
 
 namespace pcl_icf_tool {
 
+namespace localization = pcl::icf::localization;
 namespace seg = pcl::icf::segmentation;
 
 namespace {
@@ -32,7 +33,7 @@ Eigen::Matrix4d inSceneUnits(const Eigen::Isometry3f& pose, double metres_per_un
   return m;
 }
 
-json alternativesJson(const seg::ClusterLocalization& c, const Scene& scene) {
+json alternativesJson(const localization::ClusterLocalization& c, const Scene& scene) {
   json list = json::array();
   for (const auto& alt : c.alternatives)
     list.push_back({{"pose", poseRows(inSceneUnits(alt.object_pose, scene.metres_per_unit))},
@@ -44,7 +45,7 @@ json alternativesJson(const seg::ClusterLocalization& c, const Scene& scene) {
   return list;
 }
 
-json clusterJson(const seg::ClusterLocalization& c, int index, const Scene& scene) {
+json clusterJson(const localization::ClusterLocalization& c, int index, const Scene& scene) {
   const Eigen::Matrix4d pose = scenePose(c, scene.metres_per_unit);
   const Eigen::Quaterniond q = quaternionOf(pose);
   const json rows = poseRows(pose);
@@ -140,7 +141,7 @@ json resultJson(const Scene& scene, const Model& model, const ToolOptions& optio
     j["camera"] = {{"position", {position.x(), position.y(), position.z()}},
                    {"quaternion_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
   }
-  j["status"] = seg::toString(run.loc.status);
+  j["status"] = localization::toString(run.loc.status);
   j["message"] = run.loc.message;
   j["exit_code"] = exitCode(run.loc);
   j["best"] = nullptr;
@@ -223,8 +224,9 @@ void printReport(const Scene& scene, const Model& model, const Run& run, bool se
   }
   std::printf("\n");
   if (loc.best < 0) {
-    std::printf("no object found: %s (%s)\n", seg::toString(loc.status), loc.message.c_str());
-    if (segment && loc.status == seg::LocalizationStatus::NoClusters)
+    std::printf("no object found: %s (%s)\n", localization::toString(loc.status),
+                loc.message.c_str());
+    if (segment && loc.status == localization::LocalizationStatus::NoClusters)
       std::printf("       (for a cloud that holds one object, use --no-segment)\n");
   } else {
     const auto& c = loc.clusters[static_cast<std::size_t>(loc.best)];

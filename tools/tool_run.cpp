@@ -17,6 +17,7 @@
 namespace pcl_icf_tool {
 
 namespace fs = std::filesystem;
+namespace localization = pcl::icf::localization;
 namespace seg = pcl::icf::segmentation;
 
 namespace {
@@ -114,7 +115,7 @@ Scene loadScene(const std::string& path, Units requested, bool quiet) {
 }
 
 Run localize(const Scene& scene, const Model& model, const ToolOptions& options, bool quiet) {
-  seg::LocalizerParams params = options.params;
+  localization::LocalizerParams params = options.params;
   if (params.colour.expected && !scene.info.has_colour) {
     if (!quiet)
       warn(scene.path + " has no colour: --color is ignored");
@@ -127,23 +128,24 @@ Run localize(const Scene& scene, const Model& model, const ToolOptions& options,
   }
   Run run;
   const auto start = Clock::now();
-  run.loc = seg::localizeObject(*scene.metres, *model.icf, params);
+  run.loc = localization::localizeObject(*scene.metres, *model.icf, params);
   run.ms = msSince(start);
   return run;
 }
 
-int exitCode(const seg::Localization& loc) {
+int exitCode(const localization::Localization& loc) {
   switch (loc.status) {
-    case seg::LocalizationStatus::Found:
+    case localization::LocalizationStatus::Found:
       return 0;
-    case seg::LocalizationStatus::BadScene:
+    case localization::LocalizationStatus::BadScene:
       return 2;
     default:
       return 1;
   }
 }
 
-Eigen::Matrix4d scenePose(const seg::ClusterLocalization& c, double scene_metres_per_unit) {
+Eigen::Matrix4d scenePose(const localization::ClusterLocalization& c,
+                          double scene_metres_per_unit) {
   Eigen::Matrix4d pose = c.icf.object_pose.cast<double>();
   pose.topRightCorner<3, 1>() /= scene_metres_per_unit;
   return pose;
@@ -160,7 +162,7 @@ Eigen::Quaterniond quaternionOf(const Eigen::Matrix4d& pose) {
 std::string caption(const Model& model, const Run& run) {
   const std::string name = fs::path(model.path).filename().string();
   if (run.loc.best < 0)
-    return name + ": not found (" + seg::toString(run.loc.status) + ")";
+    return name + ": not found (" + localization::toString(run.loc.status) + ")";
   const auto& c = run.loc.clusters[static_cast<std::size_t>(run.loc.best)];
   return name + ": cluster " + std::to_string(run.loc.best) + ", coverage " +
          fixed(c.icf.quality.surface_coverage, 2) + ", rmse " + fixed(1e3 * c.icf.quality.rmse, 1) +

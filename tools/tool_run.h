@@ -15,7 +15,7 @@
 #include <pcl/PolygonMesh.h>
 #include <pcl/icf/icf_model.h>
 #include <pcl/icf/io/scene_io.h>
-#include <pcl/icf/segmentation/object_localizer.h>
+#include <pcl/icf/localization/object_localizer.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
@@ -75,7 +75,7 @@ Scene loadScene(const std::string& path, Units requested, bool quiet);
 
 /** The localizer's result on one scene and its wall time. */
 struct Run {
-  pcl::icf::segmentation::Localization loc;
+  pcl::icf::localization::Localization loc;
   double ms = 0.0;
 };
 
@@ -84,10 +84,10 @@ struct Run {
 Run localize(const Scene& scene, const Model& model, const ToolOptions& options, bool quiet);
 
 /** 0 found, 1 nothing accepted, 2 bad scene. */
-int exitCode(const pcl::icf::segmentation::Localization& loc);
+int exitCode(const pcl::icf::localization::Localization& loc);
 
 /** The object's pose in the scene's units: model (in scene units) -> scene. */
-Eigen::Matrix4d scenePose(const pcl::icf::segmentation::ClusterLocalization& c,
+Eigen::Matrix4d scenePose(const pcl::icf::localization::ClusterLocalization& c,
                           double scene_metres_per_unit);
 
 /** The rotation of \a pose as a unit quaternion with w >= 0. */

@@ -3,7 +3,7 @@
  * SPDX-License-Identifier: BSD-3-Clause
  *
  * The Python module pcl_icf (python/README.md): numpy in, pose out. A thin shell over
- * pcl::icf::segmentation::localizeObject, pcl::icf::estimatePose, the tracker (tracker.cpp) and
+ * pcl::icf::localization::localizeObject, pcl::icf::estimatePose, the tracker (tracker.cpp) and
  * the io readers: arrays are read where they lie (any strides), the GIL is released while the
  * C++ works, and the C++ validate() messages reach Python as ValueError.
  */
@@ -20,7 +20,7 @@
 #include <pcl/icf/icf_model.h>
 #include <pcl/icf/io/mesh_io.h>
 #include <pcl/icf/io/scene_io.h>
-#include <pcl/icf/segmentation/object_localizer.h>
+#include <pcl/icf/localization/object_localizer.h>
 
 #include <chrono>
 #include <cstddef>
@@ -31,7 +31,7 @@
 
 namespace pcl_icf_python {
 
-namespace seg = pcl::icf::segmentation;
+namespace localization = pcl::icf::localization;
 using namespace pybind11::literals;
 
 namespace {
@@ -82,7 +82,7 @@ py::dict qualityDict(const pcl::icf::PoseQuality& q) {
                   py::arg("visible_samples") = q.visible_samples);
 }
 
-py::object clusterNamespace(const seg::ClusterLocalization& c, int index) {
+py::object clusterNamespace(const localization::ClusterLocalization& c, int index) {
   py::dict d;
   d["cluster"] = index;
   d["parent"] = c.parent;
@@ -121,7 +121,7 @@ py::object clusterNamespace(const seg::ClusterLocalization& c, int index) {
   return makeNamespace(d);
 }
 
-py::object localizationNamespace(const seg::Localization& loc, double call_ms) {
+py::object localizationNamespace(const localization::Localization& loc, double call_ms) {
   py::list clusters;
   for (std::size_t k = 0; k < loc.clusters.size(); ++k)
     clusters.append(clusterNamespace(loc.clusters[k], static_cast<int>(k)));
@@ -129,7 +129,7 @@ py::object localizationNamespace(const seg::Localization& loc, double call_ms) {
   for (int k : loc.instances)
     instances.append(clusters[static_cast<std::size_t>(k)]);
   py::dict d;
-  d["status"] = seg::toString(loc.status);
+  d["status"] = localization::toString(loc.status);
   d["message"] = loc.message;
   d["found"] = loc.best >= 0;
   d["instances"] = instances;
@@ -180,16 +180,16 @@ py::object localize(const py::args& args, const py::kwargs& kwargs) {
     throw py::type_error("localize(): model must be a pcl_icf.Model");
   if (!py::isinstance<py::array>(xyz))
     throw py::value_error("scene_xyz: expected a numpy array of shape (N, 3) or (H, W, 3)");
-  seg::LocalizerParams params;
+  localization::LocalizerParams params;
   applyLocalizerKwargs(params, rest.cast<py::kwargs>());
   if (!camera.is_none())
     params.camera_pose = rigidPose(camera, "camera");
   const auto cloud = sceneCloud(xyz.cast<py::array>(), rgb, "scene_xyz", "rgb");
   const auto icf = model.cast<const Model&>().icf;
-  seg::Localization loc;
+  localization::Localization loc;
   {
     py::gil_scoped_release release;
-    loc = seg::localizeObject(cloud, *icf, params);
+    loc = localization::localizeObject(cloud, *icf, params);
   }
   return localizationNamespace(loc, msSince(start));
 }

@@ -13,7 +13,7 @@
 
 namespace pcl_icf_python {
 
-namespace seg = pcl::icf::segmentation;
+namespace localization = pcl::icf::localization;
 
 namespace {
 
@@ -85,8 +85,8 @@ pcl::icf::PinholeIntrinsics intrinsicsOf(const py::handle& v) {
   return k;
 }
 
-FieldTable<seg::LocalizerParams> localizerTable() {
-  using P = seg::LocalizerParams;
+FieldTable<localization::LocalizerParams> localizerTable() {
+  using P = localization::LocalizerParams;
   FieldTable<P> t;
   for (auto& [name, field] : icfTable())
     t[name] = {[set = field.set](P& p, const py::handle& v) { set(p.icf, v); },
@@ -189,7 +189,7 @@ py::dict defaults(const FieldTable<Params>& table) {
   return d;
 }
 
-const FieldTable<seg::LocalizerParams>& localizerFields() {
+const FieldTable<localization::LocalizerParams>& localizerFields() {
   static const auto table = localizerTable();
   return table;
 }
@@ -206,7 +206,7 @@ const FieldTable<pcl::icf::tracking::TrackerParams>& trackerFields() {
 
 }  // namespace
 
-void applyLocalizerKwargs(seg::LocalizerParams& params, const py::kwargs& kwargs) {
+void applyLocalizerKwargs(localization::LocalizerParams& params, const py::kwargs& kwargs) {
   apply(localizerFields(), params, kwargs, "localize");
 }
 

@@ -7,7 +7,7 @@
 #include <pybind11/pybind11.h>
 
 #include <pcl/icf/estimate_pose.h>
-#include <pcl/icf/segmentation/object_localizer.h>
+#include <pcl/icf/localization/object_localizer.h>
 #include <pcl/icf/tracking/object_tracker.h>
 
 namespace pcl_icf_python {
@@ -18,7 +18,7 @@ namespace py = pybind11;
  * fields, the tool's shortcuts for nested ones), then params.validate().
  * \throws py::type_error for an unknown name, std::invalid_argument (ValueError) from
  * validate(). */
-void applyLocalizerKwargs(pcl::icf::segmentation::LocalizerParams& params,
+void applyLocalizerKwargs(pcl::icf::localization::LocalizerParams& params,
                           const py::kwargs& kwargs);
 
 /** \brief The same for estimatePose's IcfParams (the icf subset of the names). */

@@ -5,7 +5,7 @@
 #include <pcl/icf/tracking/object_tracker.h>
 #include <pcl/icf/usable_point.h>
 #include <pcl/point_types.h>
-#include <pcl/icf/segmentation/impl/object_localizer.hpp>
+#include <pcl/icf/localization/impl/object_localizer.hpp>
 
 #include <omp.h>
 
@@ -32,7 +32,7 @@ double msSince(Clock::time_point start) {
 
 /** The localizer's view of the frame (points, colours, image size), moved into the camera's
  * frame. */
-struct ObjectTracker::FrameView : segmentation::detail::SceneView {
+struct ObjectTracker::FrameView : localization::detail::SceneView {
   Eigen::Isometry3f camera_to_scene = Eigen::Isometry3f::Identity();
 };
 
@@ -87,7 +87,7 @@ int ObjectTracker::addObject(IcfModel::ConstPtr model, const std::string& name) 
 void ObjectTracker::setPose(int object, const Eigen::Isometry3f& model_to_camera) {
   if (object < 0 || object >= static_cast<int>(objects_.size()))
     throw std::out_of_range("ObjectTracker::setPose: no object " + std::to_string(object));
-  segmentation::validateCameraPose(model_to_camera, "ObjectTracker::setPose: the pose");
+  localization::validateCameraPose(model_to_camera, "ObjectTracker::setPose: the pose");
   Object& o = objects_[static_cast<std::size_t>(object)];
   o.last = model_to_camera;
   o.previous.reset();
@@ -217,8 +217,8 @@ bool ObjectTracker::search(const pcl::PointCloud<PointT>& frame, const FrameView
                            Object& object, ObjectTrack& out) {
   const auto start = Clock::now();
   out.searched = true;
-  const segmentation::Localization loc =
-      segmentation::localizeObject(frame, *object.model, params_.localizer);
+  const localization::Localization loc =
+      localization::localizeObject(frame, *object.model, params_.localizer);
   out.search_ms = msSince(start);
   const Eigen::Isometry3f scene_to_camera = view.camera_to_scene.inverse(Eigen::Isometry);
   if (loc.segmentation.plane.found()) {
@@ -229,7 +229,7 @@ bool ObjectTracker::search(const pcl::PointCloud<PointT>& frame, const FrameView
     plane_ = c;
   }
   if (loc.best < 0) {
-    out.message = loc.message.empty() ? segmentation::toString(loc.status) : loc.message;
+    out.message = loc.message.empty() ? localization::toString(loc.status) : loc.message;
     return false;
   }
   const auto& best = loc.clusters[static_cast<std::size_t>(loc.best)];
@@ -247,9 +247,9 @@ TrackedFrame ObjectTracker::track(const pcl::PointCloud<PointT>& frame) {
   TrackedFrame result;
   result.index = frame_++;
   FrameView view;
-  static_cast<segmentation::detail::SceneView&>(view) = segmentation::detail::makeSceneView(frame);
-  view.camera_to_scene = segmentation::cameraPoseOf(frame, params_.localizer);
-  segmentation::validateCameraPose(view.camera_to_scene, "camera pose");
+  static_cast<localization::detail::SceneView&>(view) = localization::detail::makeSceneView(frame);
+  view.camera_to_scene = localization::cameraPoseOf(frame, params_.localizer);
+  localization::validateCameraPose(view.camera_to_scene, "camera pose");
   const Eigen::Isometry3f scene_to_camera = view.camera_to_scene.inverse(Eigen::Isometry);
   if (!scene_to_camera.matrix().isIdentity(0.f))
     for (Eigen::Vector3f& p : view.points)

@@ -17,8 +17,8 @@
 #include <pcl/icf/depth_image.h>
 #include <pcl/icf/depth_verification.h>
 #include <pcl/icf/icf_model.h>
+#include <pcl/icf/localization/object_localizer.h>
 #include <pcl/icf/refinement.h>
-#include <pcl/icf/segmentation/object_localizer.h>
 #include <pcl/point_cloud.h>
 
 #include <Eigen/Geometry>
@@ -56,7 +56,7 @@ struct TrackerParams {
 
   /** The search (first frame, after a loss) and the verification: its verification,
    * min_confidence, camera_pose, intrinsics and threads are used by the tracking step too. */
-  segmentation::LocalizerParams localizer;
+  localization::LocalizerParams localizer;
   /** The per-frame refinement from the predicted pose. Its first Tukey radius bounds how far
    * the object may move beyond the constant-velocity prediction between two frames. */
   RefinementParams refinement = defaultRefinement();

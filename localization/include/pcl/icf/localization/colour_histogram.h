@@ -13,7 +13,7 @@
 
 namespace pcl {
 namespace icf {
-namespace segmentation {
+namespace localization {
 
 /** \brief A normalised colour histogram: \a bins hue bins for saturated colours plus \a bins
  * value (brightness) bins for greys, so white, grey and black objects have a colour too.
@@ -40,6 +40,6 @@ class ColourHistogram {
  * empty when the mesh has none. */
 std::optional<Eigen::Vector3f> meshColour(const pcl::PolygonMesh& mesh);
 
-}  // namespace segmentation
+}  // namespace localization
 }  // namespace icf
 }  // namespace pcl

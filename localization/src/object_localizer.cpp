@@ -3,11 +3,11 @@
  * SPDX-License-Identifier: BSD-3-Clause
  */
 #include <pcl/icf/global_search.h>
+#include <pcl/icf/localization/colour_histogram.h>
 #include <pcl/icf/pose_verification.h>
-#include <pcl/icf/segmentation/colour_histogram.h>
 #include <pcl/icf/usable_point.h>
 #include <pcl/point_types.h>
-#include <pcl/icf/segmentation/impl/object_localizer.hpp>
+#include <pcl/icf/localization/impl/object_localizer.hpp>
 
 #include <omp.h>
 
@@ -20,7 +20,7 @@
 
 namespace pcl {
 namespace icf {
-namespace segmentation {
+namespace localization {
 
 const char* toString(LocalizationStatus status) {
   switch (status) {
@@ -415,7 +415,8 @@ DepthImage sceneDepthImage(const SceneView& view, const pcl::Indices& table,
  * from the camera and over the table (inside its inliers' extent on the plane, shrunk by a
  * tenth): an opaque table top hides them from a camera above it, so many of them, and nothing
  * on the camera's side, is a camera placed below the table. */
-std::size_t pointsBeyondTheTable(const SceneView& view, const TabletopSegmentation& segmentation,
+std::size_t pointsBeyondTheTable(const SceneView& view,
+                                 const segmentation::TabletopSegmentation& segmentation,
                                  const LocalizerParams& params) {
   const Eigen::Vector4f& plane = segmentation.plane.coefficients;
   const Eigen::Vector3f n = plane.head<3>();
@@ -493,7 +494,7 @@ pcl::PointCloud<pcl::PointXYZRGBA> colouredCloud(const SceneView& view) {
 
 }  // namespace
 
-Localization localizeInView(const SceneView& view, TabletopSegmentation segmentation,
+Localization localizeInView(const SceneView& view, segmentation::TabletopSegmentation segmentation,
                             const IcfModel& model, const LocalizerParams& params,
                             double segmentation_ms) {
   const auto start = std::chrono::steady_clock::now();
@@ -501,15 +502,16 @@ Localization localizeInView(const SceneView& view, TabletopSegmentation segmenta
   out.segmentation_ms = segmentation_ms;
   std::vector<pcl::PointIndices> clusters;
   if (params.segment) {
-    const TabletopStatus status = segmentation.status;
-    if (status != TabletopStatus::Ok) {
-      const bool bad =
-          status == TabletopStatus::EmptyCloud || status == TabletopStatus::NoFinitePoints ||
-          status == TabletopStatus::TooFewPoints || status == TabletopStatus::SceneUnitsSuspect;
+    const segmentation::TabletopStatus status = segmentation.status;
+    if (status != segmentation::TabletopStatus::Ok) {
+      const bool bad = status == segmentation::TabletopStatus::EmptyCloud ||
+                       status == segmentation::TabletopStatus::NoFinitePoints ||
+                       status == segmentation::TabletopStatus::TooFewPoints ||
+                       status == segmentation::TabletopStatus::SceneUnitsSuspect;
       out.status = bad ? LocalizationStatus::BadScene : LocalizationStatus::NoClusters;
       out.message = std::string(toString(status)) +
                     (segmentation.message.empty() ? "" : ": " + segmentation.message);
-      if (status == TabletopStatus::NoCluster) {
+      if (status == segmentation::TabletopStatus::NoCluster) {
         const std::size_t beyond = pointsBeyondTheTable(view, segmentation, params);
         if (beyond >= params.segmentation.cluster.min_size) {
           out.status = LocalizationStatus::BadScene;
@@ -562,7 +564,7 @@ Localization localizeInView(const SceneView& view, TabletopSegmentation segmenta
         continue;
       if (coloured.empty())
         coloured = colouredCloud(view);
-      for (auto& segment : splitByConvexity(coloured, clusters[k], params.split))
+      for (auto& segment : segmentation::splitByConvexity(coloured, clusters[k], params.split))
         if (segment.indices.size() < clusters[k].indices.size()) {
           clusters.push_back(std::move(segment));
           parents.push_back(static_cast<int>(k));
@@ -690,6 +692,6 @@ template Localization localizeObject<pcl::PointXYZRGB>(const pcl::PointCloud<pcl
 template Localization localizeObject<pcl::PointXYZRGBA>(const pcl::PointCloud<pcl::PointXYZRGBA>&,
                                                         const IcfModel&, const LocalizerParams&);
 
-}  // namespace segmentation
+}  // namespace localization
 }  // namespace icf
 }  // namespace pcl

@@ -7,7 +7,7 @@
 #include <pcl/icf/depth_verification.h>
 #include <pcl/icf/estimate_pose.h>
 #include <pcl/icf/icf_model.h>
-#include <pcl/icf/pose_alternatives.h>
+#include <pcl/icf/localization/pose_alternatives.h>
 #include <pcl/icf/segmentation/convexity_split.h>
 #include <pcl/icf/segmentation/precompiled_point_types.h>
 #include <pcl/icf/segmentation/tabletop_segmentation.h>
@@ -22,7 +22,7 @@
 
 namespace pcl {
 namespace icf {
-namespace segmentation {
+namespace localization {
 
 /** \brief The colour cue the thesis proposed (section 6.2) and did not build: the cluster's
  * colour histogram against an expected colour. */
@@ -42,7 +42,7 @@ struct ColourCue {
 struct LocalizerParams {
   /** false: the whole cloud is one cluster (a cloud already cut to one object). */
   bool segment = true;
-  TabletopParams segmentation;
+  segmentation::TabletopParams segmentation;
   IcfParams icf;
   /** The verification that decides (depth_verification.h): the posed model rendered into the
    * camera's pixel grid and compared with the measured depth; tolerances scale with the
@@ -72,10 +72,10 @@ struct LocalizerParams {
   ColourCue colour;
   /** Touching objects merge into one Euclidean cluster (the YCB-Video frame's four do). A
    * cluster that spreads wider than the model (icf.global.merged_cluster_ratio) is also split
-   * where its surface turns concave (splitByConvexity) and every segment is tried as a
-   * cluster of its own, besides the whole. */
+   * where its surface turns concave (segmentation::splitByConvexity) and every segment is tried as
+   * a cluster of its own, besides the whole. */
   bool split_merged = true;
-  ConvexitySplitParams split;
+  segmentation::ConvexitySplitParams split;
   /** Clusters localised in parallel (0: all cores). The result does not depend on it. */
   int threads = 0;
   /** The camera's pose in the scene's frame (camera -> scene; camera frame x right, y down,
@@ -165,7 +165,7 @@ const char* toString(LocalizationStatus status);
 struct Localization {
   LocalizationStatus status = LocalizationStatus::NotFound;
   std::string message;
-  TabletopSegmentation segmentation;  ///< empty when params.segment is false
+  segmentation::TabletopSegmentation segmentation;  ///< empty when params.segment is false
   /** The segmentation's clusters in its order, then the convexity segments of merged ones. */
   std::vector<ClusterLocalization> clusters;
   /** Indices into clusters of the accepted instances, by score (best first), at most
@@ -195,10 +195,10 @@ template <typename PointT>
 Localization localizeObject(const pcl::PointCloud<PointT>& scene, const IcfModel& model,
                             const LocalizerParams& params = {});
 
-}  // namespace segmentation
+}  // namespace localization
 }  // namespace icf
 }  // namespace pcl
 
 #ifdef PCL_NO_PRECOMPILE
-#include <pcl/icf/segmentation/impl/object_localizer.hpp>
+#include <pcl/icf/localization/impl/object_localizer.hpp>
 #endif

@@ -2,7 +2,7 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
-#include <pcl/icf/pose_alternatives.h>
+#include <pcl/icf/localization/pose_alternatives.h>
 
 #include <Eigen/Eigenvalues>
 
@@ -14,12 +14,13 @@
 
 namespace pcl {
 namespace icf {
+namespace localization {
 
 void PoseAlternativeParams::validate() const {
   auto fail = [](const char* field, double value, const char* rule) {
     std::ostringstream msg;
-    msg << "[pcl::icf::PoseAlternativeParams::validate] " << field << " = " << value << ": "
-        << rule;
+    msg << "[pcl::icf::localization::PoseAlternativeParams::validate] " << field << " = " << value
+        << ": " << rule;
     throw std::invalid_argument(msg.str());
   };
   if (!(confidence_margin >= 0.0 && confidence_margin <= 1.0))
@@ -149,5 +150,6 @@ std::vector<PoseAlternative> turnedAlternatives(
   return out;
 }
 
+}  // namespace localization
 }  // namespace icf
 }  // namespace pcl

@@ -4,7 +4,7 @@
  */
 #include <pcl/common/io.h>
 #include <pcl/conversions.h>
-#include <pcl/icf/segmentation/colour_histogram.h>
+#include <pcl/icf/localization/colour_histogram.h>
 #include <pcl/point_types.h>
 
 #include <algorithm>
@@ -12,7 +12,7 @@
 
 namespace pcl {
 namespace icf {
-namespace segmentation {
+namespace localization {
 
 namespace {
 constexpr float kMinSaturation = 0.25f;  // below: a grey, binned by brightness
@@ -81,6 +81,6 @@ std::optional<Eigen::Vector3f> meshColour(const pcl::PolygonMesh& mesh) {
   return (sum / static_cast<double>(cloud.size())).cast<float>();
 }
 
-}  // namespace segmentation
+}  // namespace localization
 }  // namespace icf
 }  // namespace pcl

@@ -5,7 +5,7 @@
 #pragma once
 
 #include <pcl/common/transforms.h>
-#include <pcl/icf/segmentation/object_localizer.h>
+#include <pcl/icf/localization/object_localizer.h>
 #include <pcl/icf/segmentation/tabletop_segmentation.h>
 #include <pcl/type_traits.h>
 
@@ -14,7 +14,7 @@
 
 namespace pcl {
 namespace icf {
-namespace segmentation {
+namespace localization {
 namespace detail {
 
 /** What the non-template core needs of the scene, in the camera's frame. */
@@ -24,7 +24,7 @@ struct SceneView {
   int width = 0, height = 0;             ///< an organized cloud's image size; 0 when unorganized
 };
 
-Localization localizeInView(const SceneView& view, TabletopSegmentation segmentation,
+Localization localizeInView(const SceneView& view, segmentation::TabletopSegmentation segmentation,
                             const IcfModel& model, const LocalizerParams& params,
                             double segmentation_ms);
 
@@ -71,9 +71,9 @@ Localization localizeInCameraFrame(const pcl::PointCloud<PointT>& scene, const I
                   "cloud's VIEWPOINT)";
     return out;
   }
-  TabletopSegmentation segmentation;
+  segmentation::TabletopSegmentation segmentation;
   if (params.segment)
-    segmentation = segmentTabletop(scene, params.segmentation);
+    segmentation = segmentation::segmentTabletop(scene, params.segmentation);
   const double segmentation_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return localizeInView(view, std::move(segmentation), model, params, segmentation_ms);
@@ -118,6 +118,6 @@ Localization localizeObject(const pcl::PointCloud<PointT>& scene, const IcfModel
   return loc;
 }
 
-}  // namespace segmentation
+}  // namespace localization
 }  // namespace icf
 }  // namespace pcl

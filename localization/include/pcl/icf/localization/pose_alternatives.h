@@ -20,6 +20,7 @@
 
 namespace pcl {
 namespace icf {
+namespace localization {
 
 /** \brief The model's principal axes: the eigenvectors (columns, largest spread first) of its
  * surface's area-weighted second moments about the surface centroid, in the model frame. */
@@ -75,5 +76,6 @@ std::vector<PoseAlternative> turnedAlternatives(const IcfModel& model,
                                                 const DepthImage& image,
                                                 const PoseAlternativeParams& params = {});
 
+}  // namespace localization
 }  // namespace icf
 }  // namespace pcl

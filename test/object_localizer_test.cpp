@@ -365,6 +365,41 @@ TEST_P(TwoCopies, GiveTwoInstances) {
   EXPECT_EQ(one.best, one.instances.front());
 }
 
+// One copy's points given as explained (what a tracker passes for a neighbour it already has):
+// the search runs on the other copy's points only (no candidate holds an explained point) and
+// finds it, within 5 mm / 3 degrees; the explained copy is not reported. An index outside the
+// scene is refused, naming the field.
+TEST_P(TwoCopies, ExplainedPointsAreLeftOutOfTheSearch) {
+  const test::SyntheticModel box = test::thesisModel("Box5");
+  test::ScanNoise noise;
+  noise.outlier_ratio = 0.0;
+  const test::TabletopScene scene =
+      test::makeTabletopScene({box, box}, GetParam(), test::CameraIntrinsics(), noise);
+  const IcfModel::ConstPtr model = IcfModel::build(box.mesh);
+  LocalizerParams params;
+  for (std::size_t i = 0; i < scene.scan.labels.size(); ++i)
+    if (scene.scan.labels[i] == 2)
+      params.explained_indices.push_back(static_cast<int>(i));
+  const auto loc = localization::localizeObject(*scene.scan.cloud, *model, params);
+  ASSERT_EQ(loc.status, LocalizationStatus::Found) << loc.message;
+  for (const auto& c : loc.clusters)
+    for (const auto i : c.indices.indices)
+      ASSERT_NE(scene.scan.labels[static_cast<std::size_t>(i)], 2) << "an explained point";
+  const auto& best = loc.clusters[static_cast<std::size_t>(loc.best)];
+  const auto error = test::poseError(Eigen::Isometry3d(best.icf.object_pose.cast<double>()),
+                                     scene.poses[0], box.symmetry);
+  EXPECT_LE(error.translation, 0.005);
+  EXPECT_LE(error.rotation_deg, 3.0);
+
+  params.explained_indices = {static_cast<int>(scene.scan.cloud->size())};
+  try {
+    localization::localizeObject(*scene.scan.cloud, *model, params);
+    FAIL() << "an index outside the scene was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("explained_indices"), std::string::npos) << e.what();
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Localizer, TwoCopies,
     ::testing::Values(std::vector<Eigen::Vector3d>{{-0.12, 0.0, 0.3}, {0.12, 0.02, -0.5}},

@@ -406,6 +406,12 @@ DepthImage sceneDepthImage(const SceneView& view, const pcl::Indices& table,
     k = DepthImage::virtualCamera(view.points, DepthImage::angularSpacing(view.points));
   DepthImage image(view.points, k);
   image.markBackground(view.points, table);
+  for (const int i : params.explained_indices)
+    if (i < 0 || static_cast<std::size_t>(i) >= view.points.size())
+      throw std::invalid_argument("LocalizerParams::explained_indices: index " + std::to_string(i) +
+                                  " is outside the scene's " + std::to_string(view.points.size()) +
+                                  " points");
+  image.markExplained(view.points, params.explained_indices);
   if (!view.colours.empty())
     image.setColours(view.points, view.colours);
   return image;
@@ -492,6 +498,27 @@ pcl::PointCloud<pcl::PointXYZRGBA> colouredCloud(const SceneView& view) {
   return cloud;
 }
 
+/** Takes the points another pose has explained out of every cluster (sorted \a explained);
+ * a cluster left with fewer than \a min_size points is dropped. A target touching an explained
+ * neighbour is then searched on its own points, not on both objects'. */
+void withoutExplainedPoints(std::vector<pcl::PointIndices>& clusters,
+                            const std::vector<int>& explained, std::size_t min_size) {
+  if (explained.empty())
+    return;
+  std::vector<int> sorted = explained;
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<pcl::PointIndices> kept;
+  for (auto& cluster : clusters) {
+    pcl::PointIndices rest;
+    for (const auto i : cluster.indices)
+      if (!std::binary_search(sorted.begin(), sorted.end(), static_cast<int>(i)))
+        rest.indices.push_back(i);
+    if (rest.indices.size() >= min_size)
+      kept.push_back(std::move(rest));
+  }
+  clusters = std::move(kept);
+}
+
 }  // namespace
 
 Localization localizeInView(const SceneView& view, segmentation::TabletopSegmentation segmentation,
@@ -541,6 +568,7 @@ Localization localizeInView(const SceneView& view, segmentation::TabletopSegment
     clusters.push_back(std::move(all));
   }
   out.segmentation = std::move(segmentation);
+  withoutExplainedPoints(clusters, params.explained_indices, params.segmentation.cluster.min_size);
 
   // What the camera saw, the table marked as background (an object standing on it would
   // otherwise seem to carry on into the table at its base).

@@ -103,13 +103,26 @@ bool DepthImage::pixelOf(const Eigen::Vector3f& p, int& u, int& v) const {
 
 void DepthImage::markBackground(const std::vector<Eigen::Vector3f>& points,
                                 const pcl::Indices& indices) {
+  mark(points, indices, kSupport);
+}
+
+void DepthImage::markExplained(const std::vector<Eigen::Vector3f>& points,
+                               const pcl::Indices& indices) {
+  mark(points, indices, kExplained);
+}
+
+void DepthImage::mark(const std::vector<Eigen::Vector3f>& points, const pcl::Indices& indices,
+                      std::uint8_t kind) {
   for (const auto i : indices) {
     if (i < 0 || static_cast<std::size_t>(i) >= points.size())
       continue;
     const Eigen::Vector3f& p = points[static_cast<std::size_t>(i)];
     int u = 0, v = 0;
-    if (pixelOf(p, u, v) && depth(u, v) == p.z())
-      background_[static_cast<std::size_t>(v) * k_.width + u] = 1;
+    if (!pixelOf(p, u, v) || depth(u, v) != p.z())
+      continue;
+    std::uint8_t& b = background_[static_cast<std::size_t>(v) * k_.width + u];
+    if (b != kSupport)
+      b = kind;
   }
 }
 

@@ -8,6 +8,7 @@
  * it short: an edge-function test per pixel and the exact ray-plane depth.
  */
 #include <pcl/icf/depth_verification.h>
+#include <pcl/icf/usable_point.h>
 
 #include <algorithm>
 #include <cmath>
@@ -313,7 +314,7 @@ Verdict judgePixel(const ModelDepth& m, const DepthImage& image, int u, int v, i
   // Distance along the surface normal: a depth offset on an oblique face is larger.
   const float off = (scene - m.depth[i]) * m.cosine[i];
   const bool background = image.background(u, v);
-  if (off < -tolerance && background)
+  if (off < -tolerance && image.supportSurface(u, v))
     return kBelowSupport;  // the table in front of the model: the model lies beneath it
   if (!judged)
     return kUnjudged;
@@ -396,6 +397,29 @@ DepthExplanation explainDepth(const IcfModel& model, const Eigen::Isometry3f& mo
     return {};
   return explainDepth(renderModelDepth(model, model_to_camera, image.intrinsics()), image,
                       2.f * model.radius(), params);
+}
+
+std::vector<int> pointsExplainedBy(const IcfModel& model, const Eigen::Isometry3f& model_to_camera,
+                                   const DepthImage& image,
+                                   const std::vector<Eigen::Vector3f>& points,
+                                   const DepthVerificationParams& params) {
+  params.validate();
+  std::vector<int> explained;
+  if (image.empty())
+    return explained;
+  const ModelDepth m = renderModelDepth(model, model_to_camera, image.intrinsics());
+  const float diameter = 2.f * model.radius();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    int u = 0, v = 0;
+    if (!isUsablePoint(points[i]) || !image.pixelOf(points[i], u, v) || !m.covers(u, v))
+      continue;
+    const std::size_t k = static_cast<std::size_t>(v) * m.width + u;
+    const float tolerance =
+        params.noise_sigmas * params.noise.sigma(m.depth[k]) + params.size_tolerance * diameter;
+    if (std::abs((points[i].z() - m.depth[k]) * m.cosine[k]) <= tolerance)
+      explained.push_back(static_cast<int>(i));
+  }
+  return explained;
 }
 
 DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, float diameter,

@@ -214,11 +214,12 @@ bool ObjectTracker::refine(const FrameView& view, const DepthImage& image,
 
 template <typename PointT>
 bool ObjectTracker::search(const pcl::PointCloud<PointT>& frame, const FrameView& view,
-                           Object& object, ObjectTrack& out) {
+                           Object& object, const std::vector<int>& explained, ObjectTrack& out) {
   const auto start = Clock::now();
   out.searched = true;
-  const localization::Localization loc =
-      localization::localizeObject(frame, *object.model, params_.localizer);
+  localization::LocalizerParams params = params_.localizer;
+  params.explained_indices = explained;
+  const localization::Localization loc = localization::localizeObject(frame, *object.model, params);
   out.search_ms = msSince(start);
   const Eigen::Isometry3f scene_to_camera = view.camera_to_scene.inverse(Eigen::Isometry);
   if (loc.segmentation.plane.found()) {
@@ -239,6 +240,30 @@ bool ObjectTracker::search(const pcl::PointCloud<PointT>& frame, const FrameView
   object.last = scene_to_camera * best.icf.object_pose;
   out.message.clear();
   return true;
+}
+
+/** The frame's points that the other objects' poses of this frame explain (pointsExplainedBy):
+ * those refined this frame, and those before \a k in order whose search has succeeded. The
+ * search for object \a k treats them as background, so a tracked neighbour touching it does
+ * not read as its surface carrying on past its silhouette. */
+std::vector<int> ObjectTracker::explainedByOthers(const FrameView& view, DepthImage& image,
+                                                  std::vector<bool>& table, std::size_t k,
+                                                  const std::vector<char>& refined_ok) {
+  std::vector<int> explained;
+  for (std::size_t j = 0; j < objects_.size(); ++j) {
+    const Object& other = objects_[j];
+    const bool posed = j < k ? other.last.has_value() : (j > k && refined_ok[j] != 0);
+    if (!posed)
+      continue;
+    if (image.empty())
+      image = depthImage(view, table);
+    const std::vector<int> mine = pointsExplainedBy(*other.model, *other.last, image, view.points,
+                                                    params_.localizer.verification);
+    explained.insert(explained.end(), mine.begin(), mine.end());
+  }
+  std::sort(explained.begin(), explained.end());
+  explained.erase(std::unique(explained.begin(), explained.end()), explained.end());
+  return explained;
 }
 
 template <typename PointT>
@@ -289,7 +314,7 @@ TrackedFrame ObjectTracker::track(const pcl::PointCloud<PointT>& frame) {
     // A failed refinement searches at once (occlusion, a fast move); a lost object every
     // search_interval frames.
     if (!ok && (out.refined || object.frames_lost % params_.search_interval == 0)) {
-      ok = search(frame, view, object, out);
+      ok = search(frame, view, object, explainedByOthers(view, image, table, k, refined_ok), out);
       by_search = ok;
     }
     if (ok) {

@@ -88,9 +88,15 @@ class DepthImage {
   float depth(int u, int v) const {
     return inside(u, v) ? depth_[static_cast<std::size_t>(v) * k_.width + u] : kEmpty;
   }
-  /** \brief True when pixel (u, v) holds a background point (see markBackground). */
+  /** \brief True when pixel (u, v) holds a background point (markBackground or markExplained):
+   * no evidence for a model, and the end of a surface's continuation. */
   bool background(int u, int v) const {
     return inside(u, v) && background_[static_cast<std::size_t>(v) * k_.width + u] != 0;
+  }
+  /** \brief True when pixel (u, v) holds a point of the supporting surface (markBackground, the
+   * table): a model it lies in front of would be beneath it. */
+  bool supportSurface(int u, int v) const {
+    return inside(u, v) && background_[static_cast<std::size_t>(v) * k_.width + u] == kSupport;
   }
   bool inside(int u, int v) const { return u >= 0 && v >= 0 && u < k_.width && v < k_.height; }
   /** \brief True when colours were set (setColours). */
@@ -111,6 +117,12 @@ class DepthImage {
    * measurement of their pixel). */
   void markBackground(const std::vector<Eigen::Vector3f>& points, const std::vector<int>& indices);
 
+  /** \brief Marks the pixels of \a points[indices] as background explained by something else
+   * (another object's accepted pose): like the table, no evidence and the end of a continuation,
+   * but, unlike it, allowed in front of a model (an occluder, not a support). A pixel already
+   * marked as the table stays the table. */
+  void markExplained(const std::vector<Eigen::Vector3f>& points, const std::vector<int>& indices);
+
   /** \brief Pixel (rounded) of a camera-frame point; false when it is behind the camera or
    * outside the image. */
   bool pixelOf(const Eigen::Vector3f& p, int& u, int& v) const;
@@ -118,7 +130,10 @@ class DepthImage {
  private:
   PinholeIntrinsics k_;
   std::vector<float> depth_;
-  std::vector<std::uint8_t> background_;
+  static constexpr std::uint8_t kSupport = 1, kExplained = 2;
+  void mark(const std::vector<Eigen::Vector3f>& points, const std::vector<int>& indices,
+            std::uint8_t kind);
+  std::vector<std::uint8_t> background_;  ///< 0, kSupport or kExplained per pixel
   std::vector<Eigen::Vector3f> colour_;
 };
 

@@ -160,6 +160,18 @@ DepthExplanation explainDepth(const IcfModel& model, const Eigen::Isometry3f& mo
 DepthExplanation explainDepth(const ModelDepth& rendered, const DepthImage& image, float diameter,
                               const DepthVerificationParams& params = {});
 
+/** \brief The indices of \a points (camera frame) that \a model at \a model_to_camera explains:
+ * their pixel in \a image is covered by the rendered model and their depth lies on its surface
+ * within the verification's support tolerance (noise_sigmas x sigma(z) + size_tolerance x
+ * diameter, along the surface normal), as explainDepth judges a pixel "supported". A caller
+ * that has accepted this pose marks them as background (DepthImage::markBackground) before
+ * verifying another object beside it: a touching neighbour's surface is then explained, and
+ * stops silhouette continuation as the table does. Ascending. */
+std::vector<int> pointsExplainedBy(const IcfModel& model, const Eigen::Isometry3f& model_to_camera,
+                                   const DepthImage& image,
+                                   const std::vector<Eigen::Vector3f>& points,
+                                   const DepthVerificationParams& params = {});
+
 /** \brief The silhouette margin in pixels for a model of \a diameter rendered in \a rendered
  * (see DepthVerificationParams::silhouette_margin). */
 int silhouetteMarginPixels(const ModelDepth& rendered, const PinholeIntrinsics& intrinsics,

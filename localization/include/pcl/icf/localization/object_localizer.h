@@ -57,6 +57,15 @@ struct LocalizerParams {
   /** Intrinsics of the camera, for an unorganized cloud (an organized one gives its own, fitted
    * to its points). Unset: a virtual camera at the cloud's point spacing. */
   std::optional<PinholeIntrinsics> intrinsics;
+  /** Indices of scene points already explained, such as the points of another object's
+   * accepted pose (pointsExplainedBy): the verification treats them as explained background
+   * (DepthImage::markExplained). Like the table, they are no evidence for the model and stop
+   * its silhouette continuation, so a neighbour touching the target does not read as the
+   * target's surface carrying on; unlike the table, they may lie in front of it (occlusion).
+   * They are taken out of the clusters (a cluster left below the minimum size is dropped), so
+   * a target touching an explained neighbour is searched on its own points. Each must index
+   * the scene. */
+  std::vector<int> explained_indices;
   /** The thesis's gate (section 6.2), off by default (the verification decides): a cluster is
    * rejected when more than max(gate_max_far_points, gate_max_far_fraction x its size) of the
    * points the posed model claims lie farther than gate_distance from its closest face. A

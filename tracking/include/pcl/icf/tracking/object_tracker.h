@@ -170,7 +170,10 @@ class ObjectTracker {
 
   template <typename PointT>
   bool search(const pcl::PointCloud<PointT>& frame, const FrameView& view, Object& object,
-              ObjectTrack& out);
+              const std::vector<int>& explained, ObjectTrack& out);
+  std::vector<int> explainedByOthers(const FrameView& view, DepthImage& image,
+                                     std::vector<bool>& table, std::size_t k,
+                                     const std::vector<char>& refined_ok);
   bool refine(const FrameView& view, const DepthImage& image, const std::vector<bool>& table,
               Object& object, ObjectTrack& out) const;
   DepthImage depthImage(const FrameView& view, std::vector<bool>& table);

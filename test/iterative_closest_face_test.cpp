@@ -366,6 +366,71 @@ TEST(IcfParams, CoarseToFineRefinementLandsWhereFullResolutionDoes) {
   }
 }
 
+// estimatePose's worth_refining check against the same call without it (the oracle): a check
+// that always says yes changes nothing (same pose to the bit, same status); one that says no
+// is asked once, with the very start the unchecked run refined from (the pose then stays that
+// start: the refinement and the measure are skipped), the result is Rejected with
+// refinement_skipped, and under Auto the SAC fallback does not run after it; with a guess it
+// is never asked.
+TEST(IcfParams, StartCheckSkipsOnlyTheRefinementItRefuses) {
+  const SyntheticModel box = pcl::icf::test::thesisModel("Box5");
+  const auto model = pcl::icf::IcfModel::build(box.mesh);
+  const Trial t = makeTrial(box, 3100);
+  std::vector<Eigen::Vector3f> points;
+  for (const auto& p : *t.cluster)
+    points.push_back(p.getVector3fMap());
+  pcl::icf::IcfParams params;
+  params.threads = 1;
+  params.fallback = pcl::icf::FallbackPolicy::Off;
+  const Eigen::Vector3f camera = Eigen::Vector3f::Zero();
+  const auto plain = pcl::icf::estimatePose(*model, points, camera, params);
+  ASSERT_TRUE(plain.accepted());
+
+  const auto yes = pcl::icf::estimatePose(*model, points, camera, params, nullptr, {},
+                                          [](const Eigen::Isometry3f&) { return true; });
+  EXPECT_TRUE(yes.object_pose.isApprox(plain.object_pose, 0.f));
+  EXPECT_EQ(yes.status, plain.status);
+  EXPECT_FALSE(yes.refinement_skipped);
+
+  std::vector<Eigen::Isometry3f> asked;
+  const auto no = pcl::icf::estimatePose(*model, points, camera, params, nullptr, {},
+                                         [&](const Eigen::Isometry3f& start) {
+                                           asked.push_back(start);
+                                           return false;
+                                         });
+  ASSERT_EQ(asked.size(), 1u);
+  EXPECT_EQ(no.status, pcl::icf::IcfStatus::Rejected);
+  EXPECT_TRUE(no.refinement_skipped);
+  EXPECT_EQ(no.refinement_iterations, 0);
+  EXPECT_TRUE(no.scene_to_model.isApprox(asked.front().matrix(), 0.f));
+  // The start the check saw is where the unchecked refinement began: within its 5 mm / 3 degree
+  // reach of the final pose.
+  const auto start_error = pcl::icf::test::poseError(toIsometry(no.object_pose),
+                                                     toIsometry(plain.object_pose), box.symmetry);
+  EXPECT_LE(start_error.translation, 0.005);
+  EXPECT_LE(start_error.rotation_deg, 3.0);
+
+  params.fallback = pcl::icf::FallbackPolicy::Auto;
+  asked.clear();
+  const auto refused = pcl::icf::estimatePose(*model, points, camera, params, nullptr, {},
+                                              [&](const Eigen::Isometry3f& start) {
+                                                asked.push_back(start);
+                                                return false;
+                                              });
+  EXPECT_EQ(asked.size(), 1u);
+  EXPECT_FALSE(refused.fallback_ran) << "a refused search start ends the search";
+
+  asked.clear();
+  const Eigen::Isometry3f guess(plain.scene_to_model);
+  const auto guided = pcl::icf::estimatePose(*model, points, camera, params, &guess, {},
+                                             [&](const Eigen::Isometry3f& start) {
+                                               asked.push_back(start);
+                                               return false;
+                                             });
+  EXPECT_TRUE(asked.empty());
+  EXPECT_FALSE(guided.refinement_skipped);
+}
+
 TEST(IcfParams, DocumentedDefaultsAreTheRealDefaults) {
   const pcl::icf::IcfParams p;
   // The thesis's values (section 4.2.1, 4.3.2, 6.2) in metres.

@@ -63,6 +63,8 @@ void LocalizerParams::validate() const {
     intrinsics->validate();
   if (!(min_confidence >= 0.0 && min_confidence <= 1.0))
     fail("min_confidence", min_confidence, "must lie in [0, 1]");
+  if (!(refine_min_confidence >= 0.0 && refine_min_confidence <= min_confidence))
+    fail("refine_min_confidence", refine_min_confidence, "must lie in [0, min_confidence]");
   if (!(gate_distance > 0.f) || !std::isfinite(gate_distance))
     fail("gate_distance", gate_distance, "must be positive and finite");
   if (gate_max_far_points < 0)
@@ -356,7 +358,14 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
   const std::vector<Eigen::Vector3f> points = usablePoints(view, indices);
   IcfParams icf = params.icf;
   icf.threads = icf_threads;
-  c.icf = estimatePose(model, points, kCameraAtOrigin, icf);
+  StartCheck worth_refining;
+  if (params.refine_min_confidence > 0.0)
+    worth_refining = [&](const Eigen::Isometry3f& scene_to_model) {
+      return explainDepth(model, scene_to_model.inverse(Eigen::Isometry), image,
+                          params.verification)
+                 .confidence >= params.refine_min_confidence;
+    };
+  c.icf = estimatePose(model, points, kCameraAtOrigin, icf, nullptr, {}, worth_refining);
   if (c.icf.status == IcfStatus::TooFewPoints) {
     c.reason = "too few points (" + std::to_string(c.icf.points) + ")";
     return c;

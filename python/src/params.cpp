@@ -96,6 +96,7 @@ FieldTable<localization::LocalizerParams> localizerTable() {
                   [](const P& p) { return py::cast(p.threads); }};
   t["segment"] = PCL_ICF_FIELD(P, bool, segment);
   t["min_confidence"] = PCL_ICF_FIELD(P, double, min_confidence);
+  t["refine_min_confidence"] = PCL_ICF_FIELD(P, double, refine_min_confidence);
   t["max_instances"] = PCL_ICF_FIELD(P, int, max_instances);
   t["max_shared_points"] = PCL_ICF_FIELD(P, double, max_shared_points);
   t["min_points_in_front"] = PCL_ICF_FIELD(P, double, min_points_in_front);

@@ -212,7 +212,8 @@ RefinementResult refineCoarseToFine(const ClosestFaceQuery& index,
 
 IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
                        const Eigen::Vector3f& camera, const IcfParams& params,
-                       const Eigen::Isometry3f* guess, const IterationCallback& callback) {
+                       const Eigen::Isometry3f* guess, const IterationCallback& callback,
+                       const StartCheck& worth_refining) {
   params.validate();
   const auto start = std::chrono::steady_clock::now();
   IcfResult result;
@@ -235,9 +236,15 @@ IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>
     RefinementResult refined;
     PoseQuality quality;
     bool accepted = false;
+    bool skipped = false;  ///< worth_refining said no: the start as it is
   };
   auto refineAndMeasure = [&](const Eigen::Isometry3f& from, const IterationCallback& cb) {
     Outcome o;
+    if (!guess && worth_refining && !worth_refining(from)) {
+      o.refined.scene_to_model = from;
+      o.skipped = true;
+      return o;
+    }
     o.refined = guess
                     ? refinePose(model.index(), points, from, params.refinement, threads, cb)
                     : refineCoarseToFine(model.index(), points, from, params.refinement,
@@ -286,7 +293,10 @@ IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>
   }
 
   Outcome best = refineAndMeasure(start_pose, callback);
-  if (!guess && !sac_only && !best.accepted && params.fallback == FallbackPolicy::Auto) {
+  // A start the caller refused (worth_refining) ends the search here: the caller's check says
+  // the cluster holds nothing it could accept near the search's best.
+  if (!guess && !sac_only && !best.accepted && !best.skipped &&
+      params.fallback == FallbackPolicy::Auto) {
     const Eigen::Isometry3f sac_pose = sacStart();
     if (result.sac_status == SacStatus::Found) {
       Outcome fallback = refineAndMeasure(sac_pose, callback);
@@ -298,6 +308,7 @@ IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>
     }
   }
 
+  result.refinement_skipped = best.skipped;
   result.refinement_iterations = best.refined.iterations;
   result.refinement_converged = best.refined.converged;
   result.scene_to_model = best.refined.scene_to_model.matrix();

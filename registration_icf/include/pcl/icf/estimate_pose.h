@@ -16,6 +16,7 @@
 #include <Eigen/Geometry>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -131,10 +132,17 @@ struct IcfResult {
    * not its pose was kept (method says which was). */
   bool fallback_ran = false;
   SacStatus sac_status = SacStatus::NotRun;  ///< its outcome when it ran
+  /** The caller's worth_refining check turned the final refinement down (estimatePose): the
+   * pose is the search's start as it was, Rejected, its quality not measured. */
+  bool refinement_skipped = false;
   double time_ms = 0.0;
 
   bool accepted() const { return status == IcfStatus::Accepted; }
 };
+
+/** \brief A caller's check of a search's start pose (scene -> model) before the final
+ * refinement: false when no refinement could make it acceptable, to save that refinement. */
+using StartCheck = std::function<bool(const Eigen::Isometry3f& scene_to_model)>;
 
 /** \brief Estimate the model's pose in a cluster of scene points (doc/icf.md): search (or
  * start from \a guess), refine by iterative closest face, measure, accept or reject.
@@ -153,11 +161,19 @@ struct IcfResult {
  * starts from the centroid start (model surface centroid on the cluster centroid, no
  * rotation), which is rarely accepted. The model's features are built on first use and cached
  * (cachedSacModel); SAC runs are serialised process-wide (PCL's aligners use rand()).
- * Deterministic for params.seed and params.sac.seed and independent of params.threads. */
+ * Deterministic for params.seed and params.sac.seed and independent of params.threads.
+ *
+ * \param worth_refining optional: called with every start pose of a search (the search's best,
+ * SAC's) before its final refinement; when it returns false that start is not refined nor
+ * measured (IcfResult::refinement_skipped; the start is reported as it is, Rejected), and a
+ * refused search start ends the search (no SAC fallback after it). Never called with a guess. The localizer passes its depth
+ * verification here (LocalizerParams::refine_min_confidence): most clusters of a real scene
+ * are other objects, and their final refinement was a third of a frame's time. */
 IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
                        const Eigen::Vector3f& camera, const IcfParams& params,
                        const Eigen::Isometry3f* guess = nullptr,
-                       const IterationCallback& callback = {});
+                       const IterationCallback& callback = {},
+                       const StartCheck& worth_refining = {});
 
 /** \brief Apply the acceptance rule to a measured quality. */
 bool isAcceptable(const PoseQuality& quality, const AcceptanceParams& params);

@@ -54,6 +54,15 @@ struct LocalizerParams {
    * between the look-alikes (at most 0.80, one real case excepted) and the right poses (at
    * least 0.95). */
   double min_confidence = 0.875;
+  /** A search's start pose (its best hypothesis after the candidates' refinement, SAC's) whose
+   * confidence is below this is not given the final refinement, and a refused search start
+   * ends that cluster's search (estimatePose's worth_refining): most clusters of a real scene
+   * are other objects, whose confidence is 0 before and after it. 0: every start is refined.
+   * Calibrated (doc/BENCHMARKS.md, "Where the time goes"): at 0.01 every decision and pose of
+   * the 160 identification cases is the same as at 0, in 0.54-0.81x of the time; 0.1 is too
+   * much: it refuses a touching copy's start at 0.068 that the refinement makes acceptable
+   * (Localizer/TwoCopies). */
+  double refine_min_confidence = 0.01;
   /** Intrinsics of the camera, for an unorganized cloud (an organized one gives its own, fitted
    * to its points). Unset: a virtual camera at the cloud's point spacing. */
   std::optional<PinholeIntrinsics> intrinsics;

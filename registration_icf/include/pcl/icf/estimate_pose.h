@@ -166,9 +166,10 @@ using StartCheck = std::function<bool(const Eigen::Isometry3f& scene_to_model)>;
  * \param worth_refining optional: called with every start pose of a search (the search's best,
  * SAC's) before its final refinement; when it returns false that start is not refined nor
  * measured (IcfResult::refinement_skipped; the start is reported as it is, Rejected), and a
- * refused search start ends the search (no SAC fallback after it). Never called with a guess. The localizer passes its depth
- * verification here (LocalizerParams::refine_min_confidence): most clusters of a real scene
- * are other objects, and their final refinement was a third of a frame's time. */
+ * refused search start ends the search (no SAC fallback after it). Never called with a guess. The
+ * localizer passes its depth verification here (LocalizerParams::refine_min_confidence): most
+ * clusters of a real scene are other objects, and their final refinement was a third of a frame's
+ * time. */
 IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
                        const Eigen::Vector3f& camera, const IcfParams& params,
                        const Eigen::Isometry3f* guess = nullptr,

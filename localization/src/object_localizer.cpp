@@ -217,13 +217,13 @@ int gateFarPoints(const std::vector<Eigen::Vector3f>& points, const IcfModel& mo
 pcl::Indices explainedPoints(const SceneView& view, const pcl::PointIndices& indices,
                              const IcfModel& model, const Eigen::Isometry3f& scene_to_model,
                              const DepthVerificationParams& v) {
-  const float size = v.size_tolerance * 2.f * model.radius();
+  const float diameter = 2.f * model.radius();
   pcl::Indices explained;
   for (const auto i : indices.indices) {
     const Eigen::Vector3f& p = view.points[static_cast<std::size_t>(i)];
     if (!isUsablePoint(p))
       continue;
-    const float tolerance = v.noise_sigmas * v.noise.sigma(p.z()) + size;
+    const float tolerance = v.supportTolerance(p.z(), diameter);
     if (model.index().closestFace(scene_to_model * p, tolerance).distance <= tolerance)
       explained.push_back(i);
   }
@@ -415,11 +415,6 @@ DepthImage sceneDepthImage(const SceneView& view, const pcl::Indices& table,
     k = DepthImage::virtualCamera(view.points, DepthImage::angularSpacing(view.points));
   DepthImage image(view.points, k);
   image.markBackground(view.points, table);
-  for (const int i : params.explained_indices)
-    if (i < 0 || static_cast<std::size_t>(i) >= view.points.size())
-      throw std::invalid_argument("LocalizerParams::explained_indices: index " + std::to_string(i) +
-                                  " is outside the scene's " + std::to_string(view.points.size()) +
-                                  " points");
   image.markExplained(view.points, params.explained_indices);
   if (!view.colours.empty())
     image.setColours(view.points, view.colours);
@@ -507,21 +502,22 @@ pcl::PointCloud<pcl::PointXYZRGBA> colouredCloud(const SceneView& view) {
   return cloud;
 }
 
-/** Takes the points another pose has explained out of every cluster (sorted \a explained);
- * a cluster left with fewer than \a min_size points is dropped. A target touching an explained
- * neighbour is then searched on its own points, not on both objects'. */
-void withoutExplainedPoints(std::vector<pcl::PointIndices>& clusters,
-                            const std::vector<int>& explained, std::size_t min_size) {
+/** Takes the points another pose has explained (LocalizerParams::explained_indices, each an
+ * index of \a view) out of every cluster; a cluster left with fewer than \a min_size points
+ * is dropped. A target touching an explained neighbour is then searched on its own points,
+ * not on both objects'. \throws std::invalid_argument for an index outside the scene. */
+void withoutExplainedPoints(std::vector<pcl::PointIndices>& clusters, const SceneView& view,
+                            const pcl::Indices& explained, std::size_t min_size) {
+  for (const int i : explained)
+    if (i < 0 || static_cast<std::size_t>(i) >= view.points.size())
+      throw std::invalid_argument("LocalizerParams::explained_indices: index " + std::to_string(i) +
+                                  " is outside the scene's " + std::to_string(view.points.size()) +
+                                  " points");
   if (explained.empty())
     return;
-  std::vector<int> sorted = explained;
-  std::sort(sorted.begin(), sorted.end());
   std::vector<pcl::PointIndices> kept;
-  for (auto& cluster : clusters) {
-    pcl::PointIndices rest;
-    for (const auto i : cluster.indices)
-      if (!std::binary_search(sorted.begin(), sorted.end(), static_cast<int>(i)))
-        rest.indices.push_back(i);
+  for (const auto& cluster : clusters) {
+    pcl::PointIndices rest = unexplainedPoints(cluster, explained);
     if (rest.indices.size() >= min_size)
       kept.push_back(std::move(rest));
   }
@@ -577,7 +573,8 @@ Localization localizeInView(const SceneView& view, segmentation::TabletopSegment
     clusters.push_back(std::move(all));
   }
   out.segmentation = std::move(segmentation);
-  withoutExplainedPoints(clusters, params.explained_indices, params.segmentation.cluster.min_size);
+  withoutExplainedPoints(clusters, view, params.explained_indices,
+                         params.segmentation.cluster.min_size);
 
   // What the camera saw, the table marked as background (an object standing on it would
   // otherwise seem to carry on into the table at its base).

@@ -262,9 +262,7 @@ bool onModelSurfaceExtended(const Footprint& f, const ModelDepth& m, const Depth
     const float slope =
         (edge - m.depth[static_cast<std::size_t>(vi) * m.width + ui]) / static_cast<float>(back);
     const float extended = edge + slope * static_cast<float>(steps);
-    const float tolerance =
-        params.noise_sigmas * params.noise.sigma(extended) + params.size_tolerance * diameter;
-    return std::abs(image.depth(ub, vb) - extended) <= tolerance;
+    return std::abs(image.depth(ub, vb) - extended) <= params.supportTolerance(extended, diameter);
   }
   return false;
 }
@@ -309,8 +307,7 @@ Verdict judgePixel(const ModelDepth& m, const DepthImage& image, int u, int v, i
   const float scene = image.depth(u, v);
   if (scene == DepthImage::kEmpty)
     return judged ? kMissing : kUnjudged;
-  const float tolerance =
-      params.noise_sigmas * params.noise.sigma(m.depth[i]) + params.size_tolerance * diameter;
+  const float tolerance = params.supportTolerance(m.depth[i], diameter);
   // Distance along the surface normal: a depth offset on an oblique face is larger.
   const float off = (scene - m.depth[i]) * m.cosine[i];
   const bool background = image.background(u, v);
@@ -414,9 +411,8 @@ std::vector<int> pointsExplainedBy(const IcfModel& model, const Eigen::Isometry3
     if (!isUsablePoint(points[i]) || !image.pixelOf(points[i], u, v) || !m.covers(u, v))
       continue;
     const std::size_t k = static_cast<std::size_t>(v) * m.width + u;
-    const float tolerance =
-        params.noise_sigmas * params.noise.sigma(m.depth[k]) + params.size_tolerance * diameter;
-    if (std::abs((points[i].z() - m.depth[k]) * m.cosine[k]) <= tolerance)
+    if (std::abs((points[i].z() - m.depth[k]) * m.cosine[k]) <=
+        params.supportTolerance(m.depth[k], diameter))
       explained.push_back(static_cast<int>(i));
   }
   return explained;

@@ -69,6 +69,13 @@ struct DepthVerificationParams {
    * lower the confidence in proportion (a target 25% visible at 0.5 keeps half of it). */
   double full_evidence = 0.5;
 
+  /** The support tolerance at depth \a z for a model of \a diameter: noise_sigmas x sigma(z)
+   * + size_tolerance x diameter. A measured depth this close to the model's surface (along
+   * its normal) supports it. */
+  float supportTolerance(float z, float diameter) const {
+    return noise_sigmas * noise.sigma(z) + size_tolerance * diameter;
+  }
+
   /** \throws std::invalid_argument naming the field. */
   void validate() const;
 };

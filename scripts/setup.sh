@@ -11,6 +11,7 @@ PACKAGES=(
   xvfb xauth gnuplot-nox
   nlohmann-json3-dev
   python3-dev python3-pybind11 python3-numpy python3-pytest
+  libopen3d-dev libopencv-dev libopencv-contrib-dev
 )
 
 missing=()

@@ -30,6 +30,8 @@ namespace bench {
 using CloudXYZ = pcl::PointCloud<pcl::PointXYZ>;
 using CloudN = pcl::PointCloud<pcl::PointNormal>;
 
+struct PeerModel;  // bench_peers.cpp: Open3D's and OpenCV's per-model data
+
 /** Everything prepared once per model (not timed). */
 struct PreparedModel {
   pcl::PolygonMesh::Ptr mesh;        ///< in metres
@@ -38,6 +40,10 @@ struct PreparedModel {
   CloudN::Ptr dense_normals;         ///< the same with face normals
   CloudXYZ::Ptr adds_samples;        ///< 2000 samples for ADD-S
   double icf_build_ms = 0.0, sac_build_ms = 0.0;
+  /** The non-PCL peers' data (bench_peers.h), when a peer method runs; their build times
+   * (Open3D, OpenCV). */
+  std::shared_ptr<const PeerModel> peers;
+  std::vector<double> peer_build_ms;
 };
 
 /** Loads the model (scaled to metres) and prepares everything the methods share; the
@@ -69,6 +75,11 @@ struct MethodRun {
   /** icf-scene: the poses reported as explaining the depth as well (model -> scene). */
   std::vector<Eigen::Matrix4f, Eigen::aligned_allocator<Eigen::Matrix4f>> alternative_poses;
 };
+
+/** PCL's point-to-point ICP (50 iterations, pairs within \a max_distance) of the cluster onto
+ * the model's dense samples from the scene-to-model \a guess; returns scene -> model. */
+Eigen::Matrix4f icpPointToPoint(const CloudXYZ::Ptr& cluster, const PreparedModel& model,
+                                const Eigen::Matrix4f& guess, double max_distance, bool& converged);
 
 /** pcl::IterativeClosestFace with \a params (strategy, fallback, threads). */
 MethodRun runIcf(const CloudXYZ::Ptr& cluster, const PreparedModel& model,

@@ -8,7 +8,10 @@
 //
 // --kind views (default): per model N single-object clusters, the model at a uniformly random
 //   rotation, x, y in [-0.15, 0.15] m and 0.7-1.1 m in front of the camera (the test support's
-//   randomTabletopPose), rendered alone (renderCluster); groups are the model names.
+//   randomTabletopPose), rendered alone (renderCluster); groups are the model names. --models
+//   may also name mesh files (.ply, .obj or .stl, metres: e.g. ../shared/data/meshes/bunny.ply),
+//   free-form objects the thesis's primitives do not cover: the group is the file's stem, its
+//   symmetry none.
 // --kind tabletop: the thesis's scenarios 1, 2, 3 and 5 (section 6.2) rebuilt: the target and
 //   its neighbours stand upright at random non-overlapping places on a table seen from
 //   0.5-0.8 m above at 35-60 degrees (makeTabletopScene); the cluster is the target's own
@@ -48,6 +51,7 @@
 #include "support/synthetic_models.h"
 #include "support/synthetic_sequence.h"
 
+#include <pcl/icf/io/mesh_io.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
 
@@ -159,7 +163,15 @@ bool parseOptions(int argc, char** argv, Options& opt) {
 }
 
 /** The manifest's symmetry spec of a model (doc/DATASETS.md), from its name. */
+/** Whether a --models entry names a mesh file rather than a built-in model. */
+bool isMeshFile(const std::string& name) {
+  const std::string ext = fs::path(name).extension().string();
+  return ext == ".ply" || ext == ".obj" || ext == ".stl";
+}
+
 std::string symmetrySpec(const std::string& name) {
+  if (isMeshFile(name))
+    return "none";
   static const std::map<std::string, std::string> specs = {
       {"Box5", "box:0.14,0.09,0.05"}, {"YellowRoundSalt", "cylinder"},  {"EisKaffe", "cylinder"},
       {"Amicelly", "prism:6"},        {"Cup", "cylinder:noflip"},       {"Statue", "none"},
@@ -189,7 +201,13 @@ t::SyntheticModel modelByName(const std::string& name) {
   const Eigen::Vector3f red(0.80f, 0.12f, 0.10f), blue(0.10f, 0.25f, 0.80f);
   t::SyntheticModel m;
   m.name = name;
-  if (name == "LargeBox") {
+  if (isMeshFile(name)) {
+    m.mesh = pcl::icf::io::loadPolygonMesh(name);  // throws, naming the file, when unreadable
+    pcl::PointCloud<pcl::PointXYZ> vertices;       // only x y z (a scan's extra fields dropped)
+    pcl::fromPCLPointCloud2(m.mesh.cloud, vertices);
+    pcl::toPCLPointCloud2(vertices, m.mesh.cloud);
+    m.symmetry = t::Symmetry::none();
+  } else if (name == "LargeBox") {
     m.mesh = t::makeBox(0.20, 0.12, 0.08);
     m.symmetry = t::Symmetry::box(0.20, 0.12, 0.08);
   } else if (name == "TallCylinder" || name == "WideCylinder") {
@@ -247,7 +265,7 @@ std::vector<Group> selectedGroups(const Options& opt) {
   std::vector<Group> groups;
   if (opt.kind == "views" && !opt.models.empty()) {
     for (const auto& m : opt.models)
-      groups.push_back({m, m, {m}});
+      groups.push_back({isMeshFile(m) ? fs::path(m).stem().string() : m, m, {m}});
     return groups;
   }
   for (const auto& g : allGroups(opt.kind))
@@ -362,11 +380,20 @@ Case makeCase(const Options& opt, const Group& g, const std::vector<t::Synthetic
   return makeAbsent(g.target, objects, seed);
 }
 
+/** " --models A,B" as given, or nothing when every model was written. */
+std::string modelsOption(const Options& opt) {
+  std::string text;
+  for (const auto& m : opt.models)
+    text += (text.empty() ? " --models " : ",") + m;
+  return text;
+}
+
 std::string manifestHeader(const Options& opt) {
   std::string text =
       "# pcl_icf bench manifest v1 (doc/DATASETS.md)\n# written by: "
       "pcl_icf_make_dataset --kind " +
       opt.kind + " --cases " + std::to_string(opt.cases) + " --seed " + std::to_string(opt.seed) +
+      modelsOption(opt) +
       "\n# Simulated Kinect (640x480, f 525 px), noise 1.5 mm at 1 m ~ depth^2, 5% "
       "outliers within +-5 cm; scenes in metres, camera at the origin.\n";
   if (opt.kind == "absent")
@@ -418,7 +445,9 @@ std::size_t writeSuite(const Options& opt, const std::vector<Group>& groups) {
     std::vector<t::SyntheticModel> objects;
     for (const auto& name : groups[g].objects)
       objects.push_back(modelByName(name));
-    const fs::path model_path = opt.out / "models" / (groups[g].target + ".ply");
+    const std::string& target = groups[g].target;
+    const fs::path model_path =
+        opt.out / "models" / ((isMeshFile(target) ? groups[g].name : target) + ".ply");
     if (pcl::io::savePLYFileBinary(model_path.string(), modelByName(groups[g].target).mesh) != 0)
       throw std::runtime_error("cannot write " + model_path.string());
     for (int k = 0; k < opt.cases; ++k) {

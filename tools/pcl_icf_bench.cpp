@@ -20,6 +20,8 @@
 //                          (the poses are identical: every method is seeded); icf-thesis
 //                          runs once. For small suites on a busy machine.
 //     --no-plots           skip gnuplot
+//     --ppf-sampling S     ppf+icp's model sampling relative to the model's diameter
+//                          (default 0.06; OpenCV's sample: 0.025, minutes per primitive)
 //
 // Methods (all on the same cluster points, model prepared once per model and not timed):
 //   icf-fast      pcl::IterativeClosestFace, fast global search, fallback off
@@ -30,6 +32,8 @@
 //   icp-p2plane   pcl::IterativeClosestPointWithNormals, same start and samples
 //   sacia+icp     FPFH + pcl::SampleConsensusInitialAlignment, then pcl::IterativeClosestPoint
 //   prerej+icp    FPFH + pcl::SampleConsensusPrerejective, then pcl::IterativeClosestPoint
+//   o3d-ransac+icp, o3d-fgr+icp, ppf+icp   Open3D's and OpenCV's registration, when compiled
+//                 in (PCL_ICF_BENCH_PEERS; bench_peers.h says what runs)
 //   icf-scene     pcl::icf::localization::localizeObject on the WHOLE scene (segmentation,
 //                 every cluster, acceptance, ranking), ignoring cluster=; its time is the
 //                 whole call. Only when named in --methods.
@@ -50,6 +54,9 @@
 // when it is a terminal. Exit codes: 0 done, 2 bad usage, manifest or data.
 #include "bench_manifest.h"
 #include "bench_methods.h"
+#ifdef PCL_ICF_HAVE_PEERS
+#include "bench_peers.h"
+#endif
 #include "bench_report.h"
 #include "bench_scene.h"
 #include "comma_list.h"
@@ -79,18 +86,41 @@ namespace t = pcl::icf::test;
 using namespace pcl_icf_tools::bench;
 using Clock = std::chrono::steady_clock;
 
-/** The methods run on the case's cluster; the default set. */
-const std::vector<std::string> kClusterMethods = {"icf-fast",  "icf-thesis", "icf-fast+sac",
-                                                  "icf-sac",   "icp-p2p",    "icp-p2plane",
-                                                  "sacia+icp", "prerej+icp"};
+/** The methods run on the case's cluster, the default set: ICF's, PCL's and, when compiled in
+ * (PCL_ICF_BENCH_PEERS), Open3D's and OpenCV's (bench_peers.h). */
+const std::vector<std::string>& clusterMethods() {
+  static const std::vector<std::string> methods = [] {
+    std::vector<std::string> m = {"icf-fast", "icf-thesis",  "icf-fast+sac", "icf-sac",
+                                  "icp-p2p",  "icp-p2plane", "sacia+icp",    "prerej+icp"};
+#ifdef PCL_ICF_HAVE_PEERS
+    m.insert(m.end(), peerMethods().begin(), peerMethods().end());
+#endif
+    return m;
+  }();
+  return methods;
+}
+
+bool isPeer(const std::string& m) {
+#ifdef PCL_ICF_HAVE_PEERS
+  return std::find(peerMethods().begin(), peerMethods().end(), m) != peerMethods().end();
+#else
+  (void)m;
+  return false;
+#endif
+}
 /** The method run on the whole scene (bench_scene.h). */
 const std::string kSceneMethod = "icf-scene";
 
 struct Options {
   fs::path out_dir = "bench_out", plot_dir;
   std::string name;
-  std::vector<std::string> methods = kClusterMethods, manifests;
+  std::vector<std::string> methods = clusterMethods(), manifests;
   int thesis_cases = 5, limit = -1, threads = 0, ia_iterations = 1000, repeat = 1;
+  /** ppf+icp's model sampling step relative to the model's diameter (PPF3DDetector's
+   * relativeSamplingStep). OpenCV's sample uses 0.025, but its training walks hash chains that
+   * grow with the many equal pair features of flat and round faces: on the thesis's models 0.05
+   * took over 11 minutes for one model, 0.06 takes 8-53 s, 0.08 0.5-4 s. */
+  double ppf_sampling = 0.06;
   bool plots = true;
   /** icf-scene's acceptance threshold (the localizer's default when unset); 0 makes every case
    * report its best hypothesis with its confidence, for calibration curves. */
@@ -104,10 +134,12 @@ int usage(const char* program) {
                "Usage: %s [--out DIR] [--plots DIR] [--name NAME] [--methods A,B]\n"
                "          [--thesis-cases N] [--limit N] [--threads N] [--ia-iterations N]\n"
                "          [--sac K=V,...] [--repeat N] [--no-plots]\n"
-               "          [--scene-min-confidence C] MANIFEST...\n"
-               "Methods: icf-fast icf-thesis icf-fast+sac icf-sac icp-p2p icp-p2plane "
-               "sacia+icp prerej+icp (default: these), icf-scene (whole scene)\n",
+               "          [--scene-min-confidence C] [--ppf-sampling S] MANIFEST...\n"
+               "Methods (default: all but icf-scene):",
                program);
+  for (const auto& m : clusterMethods())
+    std::fprintf(stderr, " %s", m.c_str());
+  std::fprintf(stderr, ", icf-scene (whole scene)\n");
   return 2;
 }
 
@@ -163,8 +195,8 @@ bool parseOptions(int argc, char** argv, Options& o) {
     else if (arg == "--methods") {
       o.methods = pcl_icf_tools::splitComma(value());
       for (const auto& m : o.methods)
-        if (m != kSceneMethod &&
-            std::find(kClusterMethods.begin(), kClusterMethods.end(), m) == kClusterMethods.end())
+        if (m != kSceneMethod && std::find(clusterMethods().begin(), clusterMethods().end(), m) ==
+                                     clusterMethods().end())
           throw std::invalid_argument("unknown method " + m);
     } else if (arg == "--thesis-cases")
       o.thesis_cases = std::stoi(value());
@@ -179,6 +211,8 @@ bool parseOptions(int argc, char** argv, Options& o) {
         applySacOverride(o.sac, kv);
     } else if (arg == "--repeat")
       o.repeat = std::stoi(value());
+    else if (arg == "--ppf-sampling")
+      o.ppf_sampling = std::stod(value());
     else if (arg == "--scene-min-confidence")
       o.scene_min_confidence = std::stod(value());
     else if (arg == "--no-plots")
@@ -196,6 +230,8 @@ bool parseOptions(int argc, char** argv, Options& o) {
     throw std::invalid_argument("--threads must be >= 0");
   if (o.repeat < 1 || o.repeat > 100)
     throw std::invalid_argument("--repeat must lie in [1, 100]");
+  if (!(o.ppf_sampling >= 0.01 && o.ppf_sampling <= 0.5))
+    throw std::invalid_argument("--ppf-sampling must lie in [0.01, 0.5]");
   o.sac.validate();
   if (o.plot_dir.empty())
     o.plot_dir = o.out_dir;
@@ -258,6 +294,10 @@ MethodRun runMethod(const std::string& m, const CaseInput& in, const PreparedMod
   }
   if (m == "icp-p2p" || m == "icp-p2plane")
     return runIcp(cluster, model, m == "icp-p2plane", o.threads);
+#ifdef PCL_ICF_HAVE_PEERS
+  if (isPeer(m))
+    return runPeer(m, cluster, model, o.sac.voxel_size, static_cast<int>(o.sac.seed), o.threads);
+#endif
   pcl::icf::SacParams sac = o.sac;
   if (m == "sacia+icp") {
     sac.method = pcl::icf::SacMethod::InitialAlignment;
@@ -362,7 +402,13 @@ const PreparedModel& modelOf(const CaseSpec& c, const Options& o, ModelCache& mo
   if (!models.count(model_key)) {
     if (tty)
       std::fprintf(stderr, "\r\033[Kpreparing %s ...", c.model.filename().string().c_str());
-    models[model_key] = prepareModel(c.model, c.scale, o.sac, o.threads);
+    auto model = prepareModel(c.model, c.scale, o.sac, o.threads);
+#ifdef PCL_ICF_HAVE_PEERS
+    if (std::any_of(o.methods.begin(), o.methods.end(), isPeer))
+      model->peers = preparePeerModel(*model, o.sac.voxel_size, o.ppf_sampling, o.threads,
+                                      model->peer_build_ms);
+#endif
+    models[model_key] = model;
   }
   return *models[model_key];
 }
@@ -429,14 +475,22 @@ std::string markdownReport(const Options& o, std::size_t case_count, std::size_t
     md << "\n"
        << g << ":\n\n"
        << formatTable(o.methods, [&](const std::string& m) { return rowsOf(g, m); });
+  const bool peers = std::any_of(o.methods.begin(), o.methods.end(), isPeer);
   md << "\nModel preparation (once per model, not in the times above):\n\n"
-        "| model | ICF model (ms) | SAC features (ms) |\n|---|---:|---:|\n";
+        "| model | ICF model (ms) | SAC features (ms) |"
+     << (peers ? " Open3D FPFH (ms) | OpenCV PPF training (ms) |\n|---|---:|---:|---:|---:|\n"
+               : "\n|---|---:|---:|\n");
   for (const auto& [key, model] : models) {
     char line[256];
-    std::snprintf(line, sizeof(line), "| %s | %.0f | %.0f |\n",
+    std::snprintf(line, sizeof(line), "| %s | %.0f | %.0f |",
                   fs::path(key.substr(0, key.rfind('@'))).filename().string().c_str(),
                   model->icf_build_ms, model->sac_build_ms);
     md << line;
+    for (const double ms : model->peer_build_ms) {
+      std::snprintf(line, sizeof(line), " %.0f |", ms);
+      md << line;
+    }
+    md << "\n";
   }
   return md.str();
 }

@@ -56,8 +56,7 @@ Eigen::Matrix4f centroidStart(const CloudXYZ& cluster, const PreparedModel& mode
   return guess;
 }
 
-}  // namespace
-
+/** Point-to-point ICP from a scene-to-model start. */
 Eigen::Matrix4f icpPointToPoint(const CloudXYZ::Ptr& cluster, const PreparedModel& model,
                                 const Eigen::Matrix4f& guess, double max_distance,
                                 bool& converged) {
@@ -71,6 +70,8 @@ Eigen::Matrix4f icpPointToPoint(const CloudXYZ::Ptr& cluster, const PreparedMode
   converged = icp.hasConverged();
   return icp.getFinalTransformation();
 }
+
+}  // namespace
 
 std::shared_ptr<PreparedModel> prepareModel(const fs::path& path, double scale,
                                             const pcl::icf::SacParams& sac, int threads) {

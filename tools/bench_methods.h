@@ -76,11 +76,6 @@ struct MethodRun {
   std::vector<Eigen::Matrix4f, Eigen::aligned_allocator<Eigen::Matrix4f>> alternative_poses;
 };
 
-/** PCL's point-to-point ICP (50 iterations, pairs within \a max_distance) of the cluster onto
- * the model's dense samples from the scene-to-model \a guess; returns scene -> model. */
-Eigen::Matrix4f icpPointToPoint(const CloudXYZ::Ptr& cluster, const PreparedModel& model,
-                                const Eigen::Matrix4f& guess, double max_distance, bool& converged);
-
 /** pcl::IterativeClosestFace with \a params (strategy, fallback, threads). */
 MethodRun runIcf(const CloudXYZ::Ptr& cluster, const PreparedModel& model,
                  const pcl::icf::IcfParams& params);

@@ -143,10 +143,10 @@ cv::Mat withNormals(const CloudN& samples) {
   return m;
 }
 
-/** The cluster with normals from its 10 nearest neighbours, turned towards the camera (PCL's
- * estimation: OpenCV's computeNormalsPC3d, asked to flip them towards the viewpoint, gave
- * the bunny's visible side matched to its back, 170 degrees off on every view); points without
- * a normal dropped. */
+/** The cluster with normals from its 10 nearest neighbours (the sample's count), turned towards
+ * the camera by PCL's estimation, as the PCL rows' normals are; points without a normal
+ * dropped. (OpenCV's computeNormalsPC3d gave the same poses after its ICP: the flips described
+ * at runPpf come from that ICP, not from the normals.) */
 CloudN::Ptr sceneNormals(const CloudXYZ::Ptr& cluster, int threads) {
   pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::PointNormal> estimation(
       static_cast<unsigned>(threads));

@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <iostream>
 #include <random>
 #include <tuple>
 
@@ -431,6 +432,77 @@ TEST(IcfParams, StartCheckSkipsOnlyTheRefinementItRefuses) {
   EXPECT_FALSE(guided.refinement_skipped);
 }
 
+// The seen-through check (AcceptanceParams::max_seen_through) on a view of the box where the
+// camera sees through it in a square window of 4 x 4 cm around the ray through the view's
+// centroid: the window's points are moved 4 cm farther along their rays, a depth the camera
+// could only measure through the box. Oracle: the true pose. Without the window it conflicts
+// with the depth nowhere (below 1% of its pixels: noise); with it the same pose is seen through
+// on a clear share (above the 5% default), so it is rejected, while coverage stays above its
+// bar (the moved points lie beyond the refinement's 2 cm and the 1 cm inlier distance, and the
+// pose does not move), and the fallback runs.
+TEST(IcfParams, SeenThroughRejectsAPoseTheCameraSeesThrough) {
+  const SyntheticModel box = pcl::icf::test::thesisModel("Box5");
+  const auto model = pcl::icf::IcfModel::build(box.mesh);
+  const Trial t = makeTrial(box, 3100);
+  std::vector<Eigen::Vector3f> view;
+  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+  for (const auto& p : *t.cluster) {
+    view.push_back(p.getVector3fMap());
+    centroid += view.back();
+  }
+  centroid /= static_cast<float>(view.size());
+  const Eigen::Vector3f ray = centroid.normalized();
+  const Eigen::Vector3f across = ray.unitOrthogonal(), up = ray.cross(across);
+  const float half_angle = 0.02f / centroid.norm();
+  std::vector<Eigen::Vector3f> seen_through = view;
+  std::size_t moved = 0;
+  for (auto& p : seen_through) {
+    const Eigen::Vector3f d = p.normalized();
+    if (std::abs(d.dot(across)) < half_angle && std::abs(d.dot(up)) < half_angle) {
+      p = d * (p.norm() + 0.04f);
+      ++moved;
+    }
+  }
+  ASSERT_GT(moved, 100u) << "the window must hold a good part of the view";
+
+  pcl::icf::IcfParams params;
+  params.threads = 1;
+  params.fallback = pcl::icf::FallbackPolicy::Off;
+  const Eigen::Isometry3f truth = t.truth.inverse().cast<float>();  // scene -> model
+  const Eigen::Vector3f camera = Eigen::Vector3f::Zero();
+  const auto clean = pcl::icf::estimatePose(*model, view, camera, params, &truth);
+  ASSERT_TRUE(clean.accepted());
+  EXPECT_LT(clean.quality.seen_through, 0.01);
+
+  const auto patched = pcl::icf::estimatePose(*model, seen_through, camera, params, &truth);
+  EXPECT_EQ(patched.status, pcl::icf::IcfStatus::Rejected);
+  EXPECT_GT(patched.quality.seen_through, params.acceptance.max_seen_through);
+  // One point per pixel: the moved share of the points is about the seen-through share of the
+  // judged pixels (within half of it: the silhouette's ring of pixels is not judged, and
+  // a pixel on the window's edge can hold a moved and an unmoved point).
+  const double moved_share = static_cast<double>(moved) / static_cast<double>(view.size());
+  EXPECT_NEAR(patched.quality.seen_through, moved_share, 0.5 * moved_share);
+  EXPECT_GE(patched.quality.surface_coverage, params.acceptance.min_surface_coverage);
+  const auto error =
+      pcl::icf::test::poseError(toIsometry(patched.object_pose), t.truth, box.symmetry);
+  EXPECT_LE(error.translation, 0.005);
+  EXPECT_LE(error.rotation_deg, 3.0);
+
+  params.acceptance.max_seen_through = 1.0;  // the check off: the other rules accept
+  const auto unchecked = pcl::icf::estimatePose(*model, seen_through, camera, params, &truth);
+  EXPECT_TRUE(unchecked.accepted());
+  EXPECT_EQ(unchecked.quality.seen_through, 0.0) << "not measured when the check is off";
+  std::cout << "seen through: " << clean.quality.seen_through << " without the window, "
+            << patched.quality.seen_through << " with it (" << moved << " of " << view.size()
+            << " points moved)\n";
+
+  params.acceptance.max_seen_through = 0.05;
+  params.fallback = pcl::icf::FallbackPolicy::Auto;
+  const auto searched = pcl::icf::estimatePose(*model, seen_through, camera, params);
+  EXPECT_TRUE(searched.fallback_ran) << "a pose seen through is rejected, so SAC is tried";
+  EXPECT_FALSE(searched.accepted());
+}
+
 TEST(IcfParams, DocumentedDefaultsAreTheRealDefaults) {
   const pcl::icf::IcfParams p;
   // The thesis's values (section 4.2.1, 4.3.2, 6.2) in metres.
@@ -447,6 +519,7 @@ TEST(IcfParams, DocumentedDefaultsAreTheRealDefaults) {
   EXPECT_EQ(p.thesis.stall_limit, 3);
   EXPECT_FLOAT_EQ(p.acceptance.gate_distance, 0.027f);
   EXPECT_EQ(p.acceptance.gate_max_far_points, 5);
+  EXPECT_DOUBLE_EQ(p.acceptance.max_seen_through, 0.05);
   EXPECT_EQ(p.strategy, pcl::icf::SearchStrategy::Fast);
   EXPECT_NO_THROW(p.validate());
 }

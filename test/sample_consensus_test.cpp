@@ -230,11 +230,14 @@ pcl::icf::IcfParams crippledSearch(std::size_t points) {
 }
 
 /** Over seeded views: with policy Off the crippled search is often rejected; then policy Auto
- * must run the fallback (always) and recover the pose (counted). */
+ * must run the fallback (always) and recover the pose wherever SampleConsensus can: the oracle
+ * is policy Always on the same points (SAC alone, then the refinement), so a view FPFH cannot
+ * match on does not count against the fallback. A rejected search pose is one the acceptance
+ * test (coverage, RMSE, the gate, the seen-through check) turns down. */
 void expectFallbackRecovers(const SyntheticModel& model, std::uint64_t first, std::uint64_t last,
-                            int min_fired, int max_missed) {
+                            int min_fired, int min_recoverable) {
   const IcfModel::ConstPtr prepared = IcfModel::build(model.mesh);
-  int fired = 0, recovered = 0;
+  int fired = 0, recoverable = 0, recovered = 0;
   for (std::uint64_t seed = first; seed < last; ++seed) {
     const Trial t = makeTrial(model, seed);
     pcl::icf::IcfParams params = crippledSearch(t.points.size());
@@ -253,6 +256,12 @@ void expectFallbackRecovers(const SyntheticModel& model, std::uint64_t first, st
     ++fired;
     EXPECT_TRUE(r.fallback_ran) << model.name << " seed " << seed;
     EXPECT_NE(r.sac_status, SacStatus::NotRun);
+    params.fallback = FallbackPolicy::Always;
+    const auto sac = pcl::icf::estimatePose(*prepared, t.points, Eigen::Vector3f::Zero(), params);
+    const auto e_sac = errorOf(sac.scene_to_model, t, model);
+    if (!(sac.accepted() && e_sac.translation <= 0.005 && e_sac.rotation_deg <= 3.0))
+      continue;  // SampleConsensus cannot find this view: nothing to recover
+    ++recoverable;
     const auto e = errorOf(r.scene_to_model, t, model);
     const bool ok =
         r.accepted() && r.method == "sac+icf" && e.translation <= 0.005 && e.rotation_deg <= 3.0;
@@ -262,15 +271,20 @@ void expectFallbackRecovers(const SyntheticModel& model, std::uint64_t first, st
                 << pcl::icf::toString(r.status) << ", sac " << pcl::icf::toString(r.sac_status)
                 << ", " << 1e3 * e.translation << " mm, " << e.rotation_deg << " deg\n";
   }
+  std::cout << model.name << ": the search rejected on " << fired << " views, SampleConsensus "
+            << "alone right on " << recoverable << ", the fallback recovered " << recovered << "\n";
   EXPECT_GE(fired, min_fired) << model.name << ": the crippled search should fail sometimes";
-  EXPECT_GE(recovered, fired - max_missed)
-      << model.name << ": recovered " << recovered << " of " << fired;
+  EXPECT_GE(recoverable, min_recoverable) << model.name << ": SampleConsensus finds too few";
+  EXPECT_EQ(recovered, recoverable) << model.name << ": recovered " << recovered << " of "
+                                    << recoverable << " that SampleConsensus alone finds";
 }
 
 TEST(Fallback, AutoFiresWhenTheSearchFailsAndRecoversThePose) {
-  // The thesis's primitives: the crippled search fails on 1 of 12 salt views and 2 of 12 box
-  // views; FPFH on a box's flat faces is weak, so one of those may stay unrecovered.
-  expectFallbackRecovers(pcl::icf::test::thesisModel("YellowRoundSalt"), 40, 52, 1, 0);
+  // The thesis's primitives: the crippled search is rejected on 4 of 12 salt views and 4 of 12
+  // box views (one of each a wrong pose that only the seen-through check rejects);
+  // SampleConsensus alone finds 3 and 2 of those (FPFH is weak on flat faces), and the fallback
+  // must recover exactly those.
+  expectFallbackRecovers(pcl::icf::test::thesisModel("YellowRoundSalt"), 40, 52, 1, 1);
   expectFallbackRecovers(pcl::icf::test::thesisModel("Box5"), 40, 52, 1, 1);
 }
 

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <fstream>
 #include <vector>
 
@@ -169,7 +170,10 @@ MethodRun runIcf(const CloudXYZ::Ptr& cluster, const PreparedModel& model,
   run.ms = msSince(start);
   run.object_pose = icf.getObjectPose();
   run.converged = icf.hasConverged();
-  run.detail = icf.getResult().method + (icf.getResult().fallback_ran ? " (fallback ran)" : "");
+  const pcl::icf::IcfResult& r = icf.getResult();
+  char seen[48];
+  std::snprintf(seen, sizeof(seen), ", seen through %.4f", r.quality.seen_through);
+  run.detail = r.method + (r.fallback_ran ? " (fallback ran)" : "") + seen;
   return run;
 }
 

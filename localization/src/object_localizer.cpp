@@ -7,6 +7,7 @@
 #include <pcl/icf/pose_verification.h>
 #include <pcl/icf/usable_point.h>
 #include <pcl/point_types.h>
+#include <pcl_icf_internal/parameter_check.h>
 #include <pcl/icf/localization/impl/object_localizer.hpp>
 
 #include <omp.h>
@@ -37,23 +38,18 @@ const char* toString(LocalizationStatus status) {
 }
 
 void ColourCue::validate() const {
+  const internal::ParameterCheck fail("localization::ColourCue");
   if (expected &&
       !(expected->allFinite() && expected->minCoeff() >= 0.f && expected->maxCoeff() <= 1.f))
-    throw std::invalid_argument("ColourCue::expected must be an RGB colour in [0, 1]");
+    fail("expected", expected->transpose(), "must be an RGB colour in [0, 1]");
   if (!(weight >= 0.0) || !std::isfinite(weight))
-    throw std::invalid_argument("ColourCue::weight = " + std::to_string(weight) +
-                                ": must be finite and >= 0");
+    fail("weight", weight, "must be finite and >= 0");
   if (bins < 2 || bins > 360)
-    throw std::invalid_argument("ColourCue::bins = " + std::to_string(bins) +
-                                ": must lie in [2, 360]");
+    fail("bins", bins, "must lie in [2, 360]");
 }
 
 void LocalizerParams::validate() const {
-  auto fail = [](const char* field, double value, const char* rule) {
-    std::ostringstream msg;
-    msg << "LocalizerParams::" << field << " = " << value << ": " << rule;
-    throw std::invalid_argument(msg.str());
-  };
+  const internal::ParameterCheck fail("localization::LocalizerParams");
   if (segment)
     segmentation.validate();
   icf.validate();
@@ -81,22 +77,7 @@ void LocalizerParams::validate() const {
     fail("max_shared_points", max_shared_points, "must lie in [0, 1)");
   alternatives.validate();
   if (camera_pose)
-    validateCameraPose(*camera_pose, "LocalizerParams::camera_pose");
-}
-
-void validateCameraPose(const Eigen::Isometry3f& camera_to_scene, const std::string& what) {
-  const Eigen::Matrix4f& m = camera_to_scene.matrix();
-  if (!m.allFinite())
-    throw std::invalid_argument(what + " has a NaN or infinite entry");
-  const Eigen::Matrix3f r = m.topLeftCorner<3, 3>();
-  const float orthonormality =
-      (r.transpose() * r - Eigen::Matrix3f::Identity()).cwiseAbs().maxCoeff();
-  if (!(orthonormality < 1e-4f) || !(r.determinant() > 0.f))
-    throw std::invalid_argument(
-        what + " is not a rotation and a translation (R^T R differs from I by " +
-        std::to_string(orthonormality) + ", det " + std::to_string(r.determinant()) + ")");
-  if (!(m.row(3) - Eigen::RowVector4f(0, 0, 0, 1)).isZero(0.f))
-    throw std::invalid_argument(what + ": the bottom row must be 0 0 0 1");
+    validateRigidTransform(camera_pose->matrix().cast<double>(), "LocalizerParams::camera_pose");
 }
 
 namespace {

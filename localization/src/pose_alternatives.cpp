@@ -3,6 +3,7 @@
  * SPDX-License-Identifier: BSD-3-Clause
  */
 #include <pcl/icf/localization/pose_alternatives.h>
+#include <pcl_icf_internal/parameter_check.h>
 
 #include <Eigen/Eigenvalues>
 
@@ -17,12 +18,7 @@ namespace icf {
 namespace localization {
 
 void PoseAlternativeParams::validate() const {
-  auto fail = [](const char* field, double value, const char* rule) {
-    std::ostringstream msg;
-    msg << "[pcl::icf::localization::PoseAlternativeParams::validate] " << field << " = " << value
-        << ": " << rule;
-    throw std::invalid_argument(msg.str());
-  };
+  const internal::ParameterCheck fail("localization::PoseAlternativeParams");
   if (!(confidence_margin >= 0.0 && confidence_margin <= 1.0))
     fail("confidence_margin", confidence_margin, "must lie in [0, 1]");
   if (!(same_translation >= 0.f) || !std::isfinite(same_translation))

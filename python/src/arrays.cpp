@@ -5,6 +5,7 @@
 #include "arrays.h"
 
 #include <pcl/conversions.h>
+#include <pcl/icf/rigid_transform.h>
 
 #include <cmath>
 #include <cstdint>
@@ -215,14 +216,11 @@ Eigen::Isometry3f rigidPose(const py::handle& matrix, const std::string& name) {
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c)
       pose(r, c) = v(r, c);
-  if (!pose.allFinite())
-    throw py::value_error(name + ": not finite");
-  const Eigen::Matrix3d rotation = pose.topLeftCorner<3, 3>();
-  if ((rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).norm() > 1e-4 ||
-      rotation.determinant() < 0.0 || (pose.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-9)
-    throw py::value_error(name +
-                          ": not a rigid motion (rotation not orthonormal, or last row "
-                          "not 0 0 0 1)");
+  try {
+    pcl::icf::validateRigidTransform(pose, name);
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(e.what());
+  }
   Eigen::Isometry3f out = Eigen::Isometry3f::Identity();
   out.matrix() = pose.cast<float>();
   return out;

@@ -75,11 +75,11 @@ std::shared_ptr<Model> buildModel(const pcl::PolygonMesh& mesh, const std::strin
 
 /** The registration's own measures at the final pose (pose_verification.h). */
 py::dict qualityDict(const pcl::icf::PoseQuality& q) {
-  return py::dict(py::arg("thesis_score") = q.thesis_score,
-                  py::arg("inlier_ratio") = q.inlier_ratio, py::arg("rmse") = q.rmse,
-                  py::arg("surface_coverage") = q.surface_coverage,
-                  py::arg("far_points") = q.far_points, py::arg("inliers") = q.inliers,
-                  py::arg("visible_samples") = q.visible_samples);
+  return py::dict(
+      py::arg("thesis_score") = q.thesis_score, py::arg("inlier_ratio") = q.inlier_ratio,
+      py::arg("rmse") = q.rmse, py::arg("surface_coverage") = q.surface_coverage,
+      py::arg("far_points") = q.far_points, py::arg("inliers") = q.inliers,
+      py::arg("visible_samples") = q.visible_samples, py::arg("seen_through") = q.seen_through);
 }
 
 py::object clusterNamespace(const localization::ClusterLocalization& c, int index) {

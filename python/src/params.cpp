@@ -49,6 +49,10 @@ FieldTable<pcl::icf::IcfParams> icfTable() {
   t["min_surface_coverage"] = PCL_ICF_FIELD(P, double, acceptance.min_surface_coverage);
   t["max_rmse"] = PCL_ICF_FIELD(P, double, acceptance.max_rmse);
   t["min_inliers"] = PCL_ICF_FIELD(P, std::size_t, acceptance.min_inliers);
+  t["max_seen_through"] = PCL_ICF_FIELD(P, double, acceptance.max_seen_through);
+  t["rotations"] = PCL_ICF_FIELD(P, std::size_t, global.rotations);
+  t["keep"] = PCL_ICF_FIELD(P, std::size_t, global.keep);
+  t["max_points"] = PCL_ICF_FIELD(P, std::size_t, refinement.max_points);
   t["strategy"] = {[](P& p, const py::handle& v) {
                      p.strategy = pcl::icf::parseSearchStrategy(v.cast<std::string>());
                    },

@@ -5,6 +5,7 @@
 #include <pcl/icf/depth_image.h>
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_types.h>
+#include <pcl_icf_internal/parameter_check.h>
 
 #include <cmath>
 #include <sstream>
@@ -16,10 +17,9 @@ namespace icf {
 
 namespace {
 
-void fail(const char* what, const char* field, double value, const char* rule) {
-  std::ostringstream msg;
-  msg << "[pcl::icf::" << what << "::validate] " << field << " = " << value << ": " << rule;
-  throw std::invalid_argument(msg.str());
+[[noreturn]] void fail(const char* what, const char* field, double value, const char* rule) {
+  const internal::ParameterCheck check(what);
+  check(field, value, rule);
 }
 
 bool inFront(const Eigen::Vector3f& p) {

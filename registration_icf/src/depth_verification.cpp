@@ -9,6 +9,7 @@
  */
 #include <pcl/icf/depth_verification.h>
 #include <pcl/icf/usable_point.h>
+#include <pcl_icf_internal/parameter_check.h>
 
 #include <algorithm>
 #include <cmath>
@@ -22,12 +23,7 @@ namespace icf {
 
 void DepthVerificationParams::validate() const {
   noise.validate();
-  auto fail = [](const char* field, double value, const char* rule) {
-    std::ostringstream msg;
-    msg << "[pcl::icf::DepthVerificationParams::validate] " << field << " = " << value << ": "
-        << rule;
-    throw std::invalid_argument(msg.str());
-  };
+  const internal::ParameterCheck fail("DepthVerificationParams");
   if (!(noise_sigmas > 0.f) || !std::isfinite(noise_sigmas))
     fail("noise_sigmas", noise_sigmas, "must be positive and finite");
   if (!(edge_sigmas > 0.f) || !std::isfinite(edge_sigmas))

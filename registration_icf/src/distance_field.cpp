@@ -3,6 +3,7 @@
  * SPDX-License-Identifier: BSD-3-Clause
  */
 #include <pcl/icf/distance_field.h>
+#include <pcl_icf_internal/parameter_check.h>
 
 #include <omp.h>
 
@@ -15,11 +16,7 @@ namespace pcl {
 namespace icf {
 
 void DistanceFieldParams::validate() const {
-  auto fail = [](const char* field, double value, const char* rule) {
-    std::ostringstream msg;
-    msg << "DistanceFieldParams::" << field << " = " << value << ": " << rule;
-    throw std::invalid_argument(msg.str());
-  };
+  const internal::ParameterCheck fail("DistanceFieldParams");
   if (!(margin >= 0.f) || !std::isfinite(margin))
     fail("margin", margin, "must be finite and >= 0");
   if (!(cell_size >= 0.f) || !std::isfinite(cell_size))

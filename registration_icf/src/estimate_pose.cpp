@@ -3,11 +3,13 @@
  * SPDX-License-Identifier: BSD-3-Clause
  */
 #include <pcl/icf/estimate_pose.h>
+#include <pcl_icf_internal/parameter_check.h>
 
 #include <omp.h>
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -66,11 +68,7 @@ std::string toString(IcfStatus status) {
 }
 
 void ThesisObjectiveParams::validate() const {
-  auto fail = [](const char* field, double value, const char* rule) {
-    std::ostringstream msg;
-    msg << "ThesisObjectiveParams::" << field << " = " << value << ": " << rule;
-    throw std::invalid_argument(msg.str());
-  };
+  const internal::ParameterCheck fail("ThesisObjectiveParams");
   if (!(near_distance > 0.f) || !std::isfinite(near_distance))
     fail("near_distance", near_distance, "must be positive and finite");
   if (!(far_factor >= 1.f) || !std::isfinite(far_factor))
@@ -84,11 +82,7 @@ void ThesisObjectiveParams::validate() const {
 }
 
 void AcceptanceParams::validate() const {
-  auto fail = [](const char* field, double value, const char* rule) {
-    std::ostringstream msg;
-    msg << "AcceptanceParams::" << field << " = " << value << ": " << rule;
-    throw std::invalid_argument(msg.str());
-  };
+  const internal::ParameterCheck fail("AcceptanceParams");
   if (!(inlier_distance > 0.f) || !std::isfinite(inlier_distance))
     fail("inlier_distance", inlier_distance, "must be positive and finite");
   if (!(min_surface_coverage >= 0.0 && min_surface_coverage <= 1.0))
@@ -99,7 +93,10 @@ void AcceptanceParams::validate() const {
     fail("gate_distance", gate_distance, "must be positive and finite");
   if (gate_max_far_points < 0)
     fail("gate_max_far_points", gate_max_far_points, "must be >= 0");
+  if (!(max_seen_through >= 0.0 && max_seen_through <= 1.0))
+    fail("max_seen_through", max_seen_through, "must lie in [0, 1]");
   visibility.validate();
+  depth.validate();
 }
 
 void IcfParams::validate() const {
@@ -110,19 +107,18 @@ void IcfParams::validate() const {
   acceptance.validate();
   if (fallback != FallbackPolicy::Off)
     sac.validate();
+  const internal::ParameterCheck fail("IcfParams");
   if (exact_candidates < 1)
-    throw std::invalid_argument("IcfParams::exact_candidates = 0: must be at least 1");
+    fail("exact_candidates", exact_candidates, "must be at least 1");
   if (fine_iterations < 1 || fine_iterations > 100000)
-    throw std::invalid_argument("IcfParams::fine_iterations = " + std::to_string(fine_iterations) +
-                                ": must lie in [1, 100000]");
+    fail("fine_iterations", fine_iterations, "must lie in [1, 100000]");
   if (threads < 0 || threads > 1024)
-    throw std::invalid_argument("IcfParams::threads = " + std::to_string(threads) +
-                                ": must lie in [0, 1024] (0 = all cores)");
+    fail("threads", threads, "must lie in [0, 1024] (0 = all cores)");
 }
 
 bool isAcceptable(const PoseQuality& q, const AcceptanceParams& p) {
   if (q.inliers < p.min_inliers || q.surface_coverage < p.min_surface_coverage ||
-      q.rmse > p.max_rmse)
+      q.rmse > p.max_rmse || q.seen_through > p.max_seen_through)
     return false;
   return !p.thesis_gate || q.far_points <= p.gate_max_far_points;
 }
@@ -208,12 +204,59 @@ RefinementResult refineCoarseToFine(const ClosestFaceQuery& index,
   return out;
 }
 
+/** The depth image the seen-through check compares poses with, and the scene frame's transform
+ * into that image's camera frame. */
+struct CheckImage {
+  DepthImage image;
+  Eigen::Isometry3f scene_to_camera = Eigen::Isometry3f::Identity();
+};
+
+/** \a points (scene frame) as a virtual camera at \a camera looking at their centroid sees them,
+ * at their own angular spacing (DepthImage::virtualCamera): a cluster's own depth image, as the
+ * localizer makes one for an unorganized scene. Looking along the scene's z axis the camera's
+ * axes are the scene's. */
+CheckImage clusterDepthImage(const std::vector<Eigen::Vector3f>& points,
+                             const Eigen::Vector3f& camera) {
+  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+  for (const auto& p : points)
+    centroid += p;
+  centroid /= static_cast<float>(points.size());
+  Eigen::Vector3f z = centroid - camera;
+  z = z.norm() > 0.f ? Eigen::Vector3f(z.normalized()) : Eigen::Vector3f::UnitZ();
+  Eigen::Vector3f x = Eigen::Vector3f::UnitY().cross(z);
+  if (x.norm() < 1e-3f)
+    x = z.unitOrthogonal();
+  x.normalize();
+  CheckImage out;
+  out.scene_to_camera.linear().row(0) = x;
+  out.scene_to_camera.linear().row(1) = z.cross(x);
+  out.scene_to_camera.linear().row(2) = z;
+  out.scene_to_camera.translation() = -(out.scene_to_camera.linear() * camera);
+  std::vector<Eigen::Vector3f> seen(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    seen[i] = out.scene_to_camera * points[i];
+  out.image =
+      DepthImage(seen, DepthImage::virtualCamera(seen, DepthImage::angularSpacing(seen, 200)));
+  return out;
+}
+
+/** PoseQuality::seen_through of the model at \a scene_to_model against \a image, whose camera
+ * frame the scene's maps into by \a scene_to_camera. */
+double seenThrough(const IcfModel& model, const Eigen::Isometry3f& scene_to_model,
+                   const DepthImage& image, const Eigen::Isometry3f& scene_to_camera,
+                   const DepthVerificationParams& params) {
+  const DepthExplanation e =
+      explainDepth(model, scene_to_camera * scene_to_model.inverse(Eigen::Isometry), image, params);
+  const double conflicts = e.seen_through + e.below_support;
+  return conflicts > 0.0 ? conflicts / (e.supported + conflicts) : 0.0;
+}
+
 }  // namespace
 
 IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
                        const Eigen::Vector3f& camera, const IcfParams& params,
                        const Eigen::Isometry3f* guess, const IterationCallback& callback,
-                       const StartCheck& worth_refining) {
+                       const StartCheck& worth_refining, const DepthImage* camera_image) {
   params.validate();
   const auto start = std::chrono::steady_clock::now();
   IcfResult result;
@@ -230,6 +273,17 @@ IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>
   if (guess && !guess->matrix().allFinite())
     throw std::invalid_argument("estimatePose: the initial guess has a non-finite entry");
   const int threads = params.threads > 0 ? params.threads : omp_get_num_procs();
+  // The seen-through check's image: the caller's, else the cluster's own.
+  std::optional<CheckImage> own_image;
+  const DepthImage* check_image = nullptr;
+  Eigen::Isometry3f scene_to_camera = Eigen::Isometry3f::Identity();
+  if (params.acceptance.max_seen_through < 1.0) {
+    if (!camera_image) {
+      own_image = clusterDepthImage(points, camera);
+      scene_to_camera = own_image->scene_to_camera;
+    }
+    check_image = camera_image ? camera_image : &own_image->image;
+  }
 
   // Refine from a start, measure with exact distances, accept or reject.
   struct Outcome {
@@ -252,6 +306,9 @@ IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>
     o.quality = measurePoseQuality(
         model, points, o.refined.scene_to_model, camera, params.acceptance.inlier_distance,
         params.acceptance.gate_distance, params.objective, params.acceptance.visibility, threads);
+    if (check_image)
+      o.quality.seen_through = seenThrough(model, o.refined.scene_to_model, *check_image,
+                                           scene_to_camera, params.acceptance.depth);
     o.accepted = isAcceptable(o.quality, params.acceptance);
     return o;
   };

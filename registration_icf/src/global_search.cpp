@@ -5,6 +5,7 @@
 #include <pcl/icf/global_search.h>
 #include <pcl/icf/objective.h>
 #include <pcl/icf/rotation_sampling.h>
+#include <pcl_icf_internal/parameter_check.h>
 
 #include <algorithm>
 #include <array>
@@ -28,11 +29,7 @@ RefinementParams GlobalSearchParams::defaultFieldRefinement() {
 }
 
 void GlobalSearchParams::validate() const {
-  auto fail = [](const char* field, double value, const char* rule) {
-    std::ostringstream msg;
-    msg << "GlobalSearchParams::" << field << " = " << value << ": " << rule;
-    throw std::invalid_argument(msg.str());
-  };
+  const internal::ParameterCheck fail("GlobalSearchParams");
   if (rotations < 1 || rotations > 10000000)
     fail("rotations", static_cast<double>(rotations), "must lie in [1, 1e7]");
   if (subsample < 3)

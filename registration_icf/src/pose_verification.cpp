@@ -5,6 +5,7 @@
 #include <pcl/icf/pose_verification.h>
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_types.h>
+#include <pcl_icf_internal/parameter_check.h>
 
 #include <cmath>
 #include <sstream>
@@ -15,11 +16,7 @@ namespace pcl {
 namespace icf {
 
 void VisibilityParams::validate() const {
-  auto fail = [](const char* field, double value, const char* rule) {
-    std::ostringstream msg;
-    msg << "VisibilityParams::" << field << " = " << value << ": " << rule;
-    throw std::invalid_argument(msg.str());
-  };
+  const internal::ParameterCheck fail("VisibilityParams");
   if (!(bin_angle > 0.f && bin_angle < 0.5f))
     fail("bin_angle", bin_angle, "must lie in (0, 0.5) radians");
   if (!(depth_tolerance >= 0.f) || !std::isfinite(depth_tolerance))

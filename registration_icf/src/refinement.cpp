@@ -4,6 +4,7 @@
  */
 #include <pcl/icf/distance_field.h>
 #include <pcl/icf/refinement.h>
+#include <pcl_icf_internal/parameter_check.h>
 
 #include <Eigen/Eigenvalues>
 
@@ -17,11 +18,7 @@ namespace pcl {
 namespace icf {
 
 void RefinementParams::validate() const {
-  auto fail = [](const char* field, double value, const char* rule) {
-    std::ostringstream msg;
-    msg << "RefinementParams::" << field << " = " << value << ": " << rule;
-    throw std::invalid_argument(msg.str());
-  };
+  const internal::ParameterCheck fail("RefinementParams");
   if (max_iterations < 0 || max_iterations > 100000)
     fail("max_iterations", max_iterations, "must lie in [0, 100000]");
   if (!(initial_inlier_distance > 0.f) || !std::isfinite(initial_inlier_distance))

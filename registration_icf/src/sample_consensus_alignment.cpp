@@ -9,6 +9,7 @@
 #include <pcl/registration/ia_ransac.h>
 #include <pcl/registration/sample_consensus_prerejective.h>
 #include <pcl/search/kdtree.h>
+#include <pcl_icf_internal/parameter_check.h>
 
 #include <omp.h>
 
@@ -57,11 +58,7 @@ std::string toString(SacStatus status) {
 }
 
 void SacParams::validate() const {
-  auto fail = [](const char* field, double value, const char* rule) {
-    std::ostringstream msg;
-    msg << "SacParams::" << field << " = " << value << ": " << rule;
-    throw std::invalid_argument(msg.str());
-  };
+  const internal::ParameterCheck fail("SacParams");
   auto positive = [&fail](const char* field, float value) {
     if (!(value > 0.f) || !std::isfinite(value))
       fail(field, value, "must be positive and finite");

@@ -3,6 +3,7 @@
  * SPDX-License-Identifier: BSD-3-Clause
  */
 #include <pcl/icf/thesis_search.h>
+#include <pcl_icf_internal/parameter_check.h>
 
 #include <algorithm>
 #include <cmath>
@@ -14,11 +15,7 @@ namespace pcl {
 namespace icf {
 
 void ThesisSearchParams::validate() const {
-  auto fail = [](const char* field, double value, const char* rule) {
-    std::ostringstream msg;
-    msg << "ThesisSearchParams::" << field << " = " << value << ": " << rule;
-    throw std::invalid_argument(msg.str());
-  };
+  const internal::ParameterCheck fail("ThesisSearchParams");
   if (outer_iterations < 1 || outer_iterations > 1000000)
     fail("outer_iterations", outer_iterations, "must lie in [1, 1e6]");
   if (orientation_iterations < 1 || orientation_iterations > 1000000)

@@ -5,6 +5,7 @@
 #include <pcl/icf/segmentation/convexity_split.h>
 #include <pcl/segmentation/lccp_segmentation.h>
 #include <pcl/segmentation/supervoxel_clustering.h>
+#include <pcl_icf_internal/parameter_check.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,17 +18,13 @@ namespace icf {
 namespace segmentation {
 
 void ConvexitySplitParams::validate() const {
-  auto fail = [](const char* field, double value) {
-    std::ostringstream msg;
-    msg << "ConvexitySplitParams::" << field << " = " << value << ": must be positive and finite";
-    throw std::invalid_argument(msg.str());
-  };
+  const internal::ParameterCheck fail("segmentation::ConvexitySplitParams");
   if (!(voxel_resolution > 0.f) || !std::isfinite(voxel_resolution))
-    fail("voxel_resolution", voxel_resolution);
+    fail("voxel_resolution", voxel_resolution, "must be positive and finite");
   if (!(seed_resolution > voxel_resolution) || !std::isfinite(seed_resolution))
-    fail("seed_resolution (> voxel_resolution)", seed_resolution);
+    fail("seed_resolution", seed_resolution, "must be finite and > voxel_resolution");
   if (!(concavity_tolerance_deg > 0.f && concavity_tolerance_deg < 90.f))
-    fail("concavity_tolerance_deg (< 90)", concavity_tolerance_deg);
+    fail("concavity_tolerance_deg", concavity_tolerance_deg, "must lie in (0, 90)");
 }
 
 std::vector<pcl::PointIndices> splitByConvexity(const pcl::PointCloud<pcl::PointXYZRGBA>& cloud,

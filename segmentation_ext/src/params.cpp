@@ -3,6 +3,7 @@
  * SPDX-License-Identifier: BSD-3-Clause
  */
 #include <pcl/icf/segmentation/tabletop_segmentation.h>
+#include <pcl_icf_internal/parameter_check.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,15 +18,13 @@ namespace icf {
 namespace segmentation {
 namespace {
 
-/** Throws std::invalid_argument "[pcl::icf::segmentation::<owner>::validate] <field> = <value>
- * <requirement>". */
+/** Throws std::invalid_argument "[pcl::icf::segmentation::<owner>::validate] <field> = <value>:
+ * <requirement>" (internal::ParameterCheck). */
 template <typename T>
 [[noreturn]] void fail(const char* owner, const std::string& field, const T& value,
                        const char* requirement) {
-  std::ostringstream msg;
-  msg << "[pcl::icf::segmentation::" << owner << "::validate] " << field << " = " << value << " "
-      << requirement;
-  throw std::invalid_argument(msg.str());
+  const internal::ParameterCheck check(std::string("segmentation::") + owner);
+  check(field, value, requirement);
 }
 
 void validateVoxel(const VoxelParams& p, const char* owner, const std::string& prefix) {

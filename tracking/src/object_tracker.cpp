@@ -2,9 +2,11 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
+#include <pcl/icf/rigid_transform.h>
 #include <pcl/icf/tracking/object_tracker.h>
 #include <pcl/icf/usable_point.h>
 #include <pcl/point_types.h>
+#include <pcl_icf_internal/parameter_check.h>
 #include <pcl/icf/localization/impl/object_localizer.hpp>
 
 #include <omp.h>
@@ -53,11 +55,7 @@ const char* toString(TrackState state) {
 }
 
 void TrackerParams::validate() const {
-  auto fail = [](const char* field, double value, const char* rule) {
-    std::ostringstream msg;
-    msg << "TrackerParams::" << field << " = " << value << ": " << rule;
-    throw std::invalid_argument(msg.str());
-  };
+  const internal::ParameterCheck fail("tracking::TrackerParams");
   localizer.validate();
   refinement.validate();
   if (!(crop_margin >= 0.f) || !std::isfinite(crop_margin))
@@ -87,7 +85,8 @@ int ObjectTracker::addObject(IcfModel::ConstPtr model, const std::string& name) 
 void ObjectTracker::setPose(int object, const Eigen::Isometry3f& model_to_camera) {
   if (object < 0 || object >= static_cast<int>(objects_.size()))
     throw std::out_of_range("ObjectTracker::setPose: no object " + std::to_string(object));
-  localization::validateCameraPose(model_to_camera, "ObjectTracker::setPose: the pose");
+  validateRigidTransform(model_to_camera.matrix().cast<double>(),
+                         "ObjectTracker::setPose: the pose");
   Object& o = objects_[static_cast<std::size_t>(object)];
   o.last = model_to_camera;
   o.previous.reset();
@@ -274,7 +273,7 @@ TrackedFrame ObjectTracker::track(const pcl::PointCloud<PointT>& frame) {
   FrameView view;
   static_cast<localization::detail::SceneView&>(view) = localization::detail::makeSceneView(frame);
   view.camera_to_scene = localization::cameraPoseOf(frame, params_.localizer);
-  localization::validateCameraPose(view.camera_to_scene, "camera pose");
+  validateRigidTransform(view.camera_to_scene.matrix().cast<double>(), "camera pose");
   const Eigen::Isometry3f scene_to_camera = view.camera_to_scene.inverse(Eigen::Isometry);
   if (!scene_to_camera.matrix().isIdentity(0.f))
     for (Eigen::Vector3f& p : view.points)

@@ -65,7 +65,9 @@ class ClosestFaceQuery {
   const FaceMesh& mesh_;
 };
 
-/** \brief Exact reference: tests every face. O(faces) a query; for tests and tiny meshes. */
+/** \brief Exact by exhaustion, like pcl::search::BruteForce: every face is measured, O(faces) a
+ * query and no build. For meshes of a few dozen faces, and the reference an index is checked
+ * against. */
 class BruteForceClosestFace : public ClosestFaceQuery {
  public:
   using ClosestFaceQuery::ClosestFaceQuery;

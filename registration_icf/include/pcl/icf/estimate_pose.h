@@ -4,6 +4,7 @@
  */
 #pragma once
 
+#include <pcl/icf/depth_verification.h>
 #include <pcl/icf/global_search.h>
 #include <pcl/icf/icf_model.h>
 #include <pcl/icf/objective.h>
@@ -66,6 +67,16 @@ struct AcceptanceParams {
   float gate_distance = 0.027f;
   int gate_max_far_points = 5;
   VisibilityParams visibility;
+  /** Reject a pose the camera sees through: of the posed model's pixels where the camera could
+   * have seen it (explainDepth's supported, seen_through and below_support), the share where
+   * the measured depth lies behind it (PoseQuality::seen_through) must be at most this. A
+   * partial view fitted onto the wrong side of a model can cover its points well (inliers,
+   * rmse, coverage) while the model hides other points of the view behind it. 1 turns the
+   * check off. Calibrated on every bench suite (doc/BENCHMARKS.md, "Seen through"). */
+  double max_seen_through = 0.05;
+  /** Tolerances of that check (depth_verification.h: the sensor's noise at each depth and the
+   * model's size). */
+  DepthVerificationParams depth;
 
   void validate() const;
 };
@@ -163,6 +174,11 @@ using StartCheck = std::function<bool(const Eigen::Isometry3f& scene_to_model)>;
  * (cachedSacModel); SAC runs are serialised process-wide (PCL's aligners use rand()).
  * Deterministic for params.seed and params.sac.seed and independent of params.threads.
  *
+ * The seen-through check (AcceptanceParams::max_seen_through) compares every measured pose with
+ * \a camera_image when given: the scene as a depth image with the scene's frame as the camera's
+ * (the localizer's, table marked). Without it, the points themselves are projected for a
+ * virtual camera at \a camera looking at their centroid, at their own angular spacing.
+ *
  * \param worth_refining optional: called with every start pose of a search (the search's best,
  * SAC's) before its final refinement; when it returns false that start is not refined nor
  * measured (IcfResult::refinement_skipped; the start is reported as it is, Rejected), and a
@@ -174,9 +190,11 @@ IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>
                        const Eigen::Vector3f& camera, const IcfParams& params,
                        const Eigen::Isometry3f* guess = nullptr,
                        const IterationCallback& callback = {},
-                       const StartCheck& worth_refining = {});
+                       const StartCheck& worth_refining = {},
+                       const DepthImage* camera_image = nullptr);
 
-/** \brief Apply the acceptance rule to a measured quality. */
+/** \brief Apply the acceptance rule to a measured quality (seen_through as estimatePose measured
+ * it; 0 when not measured). */
 bool isAcceptable(const PoseQuality& quality, const AcceptanceParams& params);
 
 }  // namespace icf

@@ -15,6 +15,7 @@
 #include <pcl/PolygonMesh.h>
 #include <pcl/icf/estimate_pose.h>
 #include <pcl/icf/icf_model.h>
+#include <pcl/icf/rigid_transform.h>
 #include <pcl/point_types.h>
 #include <pcl/registration/registration.h>
 #include <pcl/search/kdtree.h>
@@ -25,10 +26,6 @@
 
 namespace pcl {
 namespace icf {
-
-/** \brief Checks that \a m is a finite rigid motion: rotation block orthonormal to 1e-4,
- * determinant +1, last row (0, 0, 0, 1). \throws std::invalid_argument naming \a what. */
-void validateRigidTransform(const Eigen::Matrix4d& m, const std::string& what);
 
 /** \brief How many of \a points lie within \a radius of the model's surface after
  * \a scene_to_model (exact point-to-face distance, radius-bounded queries; OpenMP over

@@ -48,6 +48,10 @@ struct PoseQuality {
   int far_points = 0;  ///< scene points farther than the thesis gate distance
   std::size_t inliers = 0;
   std::size_t visible_samples = 0;
+  /** Share of the posed model's pixels, where the camera could have seen it, that the camera
+   * saw through (measured depth behind the model, or the table in front of it; explainDepth).
+   * Measured by estimatePose, not by measurePoseQuality: 0 when not measured. */
+  double seen_through = 0.0;
 };
 
 /** \brief Measure PoseQuality with exact distances.

@@ -62,8 +62,9 @@ constexpr std::size_t kMaxScenePoints = 50000000;
 pcl::PointCloud<pcl::PointXYZRGBA>::Ptr loadSceneCloud(const std::string& path,
                                                        SceneFileInfo* info = nullptr);
 
-/** \brief Parse the text of an .xyz / .asc file (see loadSceneCloud); \a name is used in error
- * messages. Exposed for tests. \throws FileError, EmptyCloudError as loadSceneCloud. */
+/** \brief Parse .xyz / .asc text held in memory (read from a socket, an archive or a file
+ * already in memory; loadSceneCloud parses files with it); \a name is used in error messages.
+ * \throws FileError, EmptyCloudError as loadSceneCloud. */
 pcl::PointCloud<pcl::PointXYZRGBA>::Ptr parseXyzText(const std::string& text,
                                                      const std::string& name,
                                                      bool* has_colour = nullptr);

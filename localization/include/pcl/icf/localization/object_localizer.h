@@ -8,6 +8,7 @@
 #include <pcl/icf/estimate_pose.h>
 #include <pcl/icf/icf_model.h>
 #include <pcl/icf/localization/pose_alternatives.h>
+#include <pcl/icf/rigid_transform.h>
 #include <pcl/icf/segmentation/convexity_split.h>
 #include <pcl/icf/segmentation/precompiled_point_types.h>
 #include <pcl/icf/segmentation/tabletop_segmentation.h>
@@ -133,10 +134,6 @@ struct LocalizerParams {
  * is not a rigid motion (NaN, a non-unit quaternion). */
 template <typename PointT>
 Eigen::Isometry3f cameraPoseOf(const pcl::PointCloud<PointT>& scene, const LocalizerParams& params);
-
-/** \brief Checks that \a camera_to_scene is a finite rigid motion (rotation orthonormal to 1e-4,
- * determinant +1); \throws std::invalid_argument naming \a what otherwise. */
-void validateCameraPose(const Eigen::Isometry3f& camera_to_scene, const std::string& what);
 
 /** \brief One cluster's outcome. */
 struct ClusterLocalization {

@@ -210,7 +210,9 @@ std::vector<pcl::PointIndices> pcl::icf::segmentation::extractClusters(
       sortClusters(clusters);
       return clusters;
     }
-    PCL_DEBUG("[pcl::icf::extractClusters] the points span too many grid cells; using a kd-tree\n");
+    PCL_DEBUG(
+        "[pcl::icf::segmentation::extractClusters] the points span too many grid cells; using a "
+        "kd-tree\n");
   }
 
   typename pcl::search::Search<PointT>::Ptr search;

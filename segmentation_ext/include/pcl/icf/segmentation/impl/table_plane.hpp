@@ -56,7 +56,8 @@ pcl::icf::segmentation::TablePlane pcl::icf::segmentation::findTablePlane(
   TablePlane result;
   auto usable = std::make_shared<pcl::Indices>(detail::finiteSubset(cloud, indices));
   if (usable->size() < 3 || !detail::spansPlane(cloud, *usable)) {
-    PCL_DEBUG("[pcl::icf::findTablePlane] %zu usable points do not span a plane\n", usable->size());
+    PCL_DEBUG("[pcl::icf::segmentation::findTablePlane] %zu usable points do not span a plane\n",
+              usable->size());
     return result;
   }
 
@@ -69,7 +70,7 @@ pcl::icf::segmentation::TablePlane pcl::icf::segmentation::findTablePlane(
   const bool ok = ransac.computeModel();
   result.iterations = ransac.hypotheses();
   if (!ok) {
-    PCL_DEBUG("[pcl::icf::findTablePlane] RANSAC found no plane among %zu points\n",
+    PCL_DEBUG("[pcl::icf::segmentation::findTablePlane] RANSAC found no plane among %zu points\n",
               usable->size());
     return result;
   }

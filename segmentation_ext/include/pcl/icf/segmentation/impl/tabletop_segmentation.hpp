@@ -82,7 +82,7 @@ pcl::icf::segmentation::TabletopSegmentation pcl::icf::segmentation::segmentTabl
           << "max_scene_extent = " << params.max_scene_extent
           << ": the cloud looks like millimetres while the parameters are in metres; scale the "
              "cloud by 0.001 (or raise max_scene_extent for a large scene in metres)";
-      PCL_WARN("[pcl::icf::segmentTabletop] %s\n", msg.str().c_str());
+      PCL_WARN("[pcl::icf::segmentation::segmentTabletop] %s\n", msg.str().c_str());
       seg.timing.finite_ms = stage.lap();
       return finish(TabletopStatus::SceneUnitsSuspect, msg.str());
     }
@@ -95,7 +95,7 @@ pcl::icf::segmentation::TabletopSegmentation pcl::icf::segmentation::segmentTabl
           << "max_pixel_spacing_factor * cluster.tolerance = " << limit
           << ": the cloud looks like millimetres while the parameters are in metres; scale the "
              "cloud by 0.001";
-      PCL_WARN("[pcl::icf::segmentTabletop] %s\n", msg.str().c_str());
+      PCL_WARN("[pcl::icf::segmentation::segmentTabletop] %s\n", msg.str().c_str());
       seg.timing.finite_ms = stage.lap();
       return finish(TabletopStatus::SceneUnitsSuspect, msg.str());
     }

@@ -3,7 +3,7 @@
 // (doc/DATASETS.md).
 //
 //   pcl_icf_make_dataset --out DIR [--manifest FILE]
-//                        [--kind views|tabletop|absent|present|sequence] [--cases N]
+//                        [--kind views|tabletop|absent|present|clutter|sequence] [--cases N]
 //                        [--frames N] [--models A,B,...] [--seed S]
 //
 // --kind views (default): per model N single-object clusters, the model at a uniformly random
@@ -28,6 +28,16 @@
 //   (the similar shape, same colour) and the neighbours, the whole organized frame. Groups
 //   P-TallCylinder, P-Box5, P-Amicelly, P-EisKaffe, P-YellowRoundSalt; the manifest line has
 //   the target's truth and cluster=all (for icf-scene: find the right one of two look-alikes).
+// --kind clutter: N cluttered desks (test::makeClutterScene, issue 12): 10-25 objects of
+//   every model but the target's, most touching a neighbour, some standing on a box or a can,
+//   2-5 more on a shelf behind the desk's far edge, seen from 0.5-0.8 m above at 35-60 degrees
+//   with Kinect v1 edge artefacts (holes and flying pixels along depth edges) besides the noise;
+//   the target (the four thesis models in turn, --models filters) 30-50%, 50-75% and 75-100%
+//   visible in turn (desk k: band k mod 3), 15% of the time on top of another object. Each desk
+//   gives two cases, whole organized frames (cluster=all): K_NNN with the target, in group
+//   K-v30-50, K-v50-75 or K-v75-100 by its visible share (results per visibility band), and
+//   K_NNN_absent, the same desk with the target taken away (truth=none, group K-absent). Desk k
+//   draws from seed + k.
 // --kind sequence: N streams of --frames organized frames (doc/DATASETS.md) for the tracker
 //   (pcl_icf_tool --track): two of the thesis models (drawn per sequence) tracked, the first
 //   moving along a smooth curve and taken off the table for 3-6 frames, then put back where
@@ -41,13 +51,15 @@
 // seed + 1000 * group + k, so adding cases never changes the earlier ones.
 //
 // Writes DIR/models/<Model>.ply (binary PLY, metres), DIR/<kind>/<case>.pcd (binary_compressed PCD,
-// camera at the origin: PointXYZ clusters, or for absent organized 640x480 PointXYZRGB frames
+// camera at the origin: PointXYZ clusters, or for absent, present and clutter organized 640x480
+// PointXYZRGB frames
 // with NaN where nothing was hit) and the manifest (default DIR/manifest.txt) whose paths are
 // relative to the manifest's directory. Exit codes: 0 written, 2 bad usage or I/O error.
 #include "comma_list.h"
 #include "support/depth_camera.h"
 #include "support/mesh_geometry.h"
 #include "support/pose_error.h"
+#include "support/synthetic_clutter.h"
 #include "support/synthetic_models.h"
 #include "support/synthetic_sequence.h"
 
@@ -90,11 +102,13 @@ struct Options {
 int usage(const char* program) {
   std::fprintf(stderr,
                "Usage: %s --out DIR [--manifest FILE]\n"
-               "          [--kind views|tabletop|absent|present|sequence] [--cases N]\n"
+               "          [--kind views|tabletop|absent|present|clutter|sequence] [--cases N]\n"
                "          [--frames N] [--models A,B,...] [--seed S]\n"
                "Writes a seeded synthetic suite of the thesis's models and its manifest\n"
                "(format: doc/DATASETS.md). Defaults: views, 30 cases per group, every model\n"
                "(views: the four thesis models), seed 2013, manifest DIR/manifest.txt.\n"
+               "--kind clutter writes N cluttered desks (default 30), each with the target and\n"
+               "its target-absent twin.\n"
                "--kind sequence writes N (default 1) streams of --frames (default 40) frames\n"
                "for pcl_icf_tool --track, each with frames.txt and truth.json, no manifest.\n",
                program);
@@ -146,9 +160,9 @@ bool parseOptions(int argc, char** argv, Options& opt) {
   if (opt.out.empty())
     throw std::invalid_argument("--out is required");
   if (opt.kind != "views" && opt.kind != "tabletop" && opt.kind != "absent" &&
-      opt.kind != "present" && opt.kind != "sequence")
+      opt.kind != "present" && opt.kind != "clutter" && opt.kind != "sequence")
     throw std::invalid_argument(
-        "--kind must be views, tabletop, absent, present or sequence, not " + opt.kind);
+        "--kind must be views, tabletop, absent, present, clutter or sequence, not " + opt.kind);
   if (opt.cases == -1)
     opt.cases = opt.kind == "sequence" ? 1 : 30;
   if (opt.cases < 1 || opt.cases > 100000)
@@ -403,6 +417,13 @@ std::string manifestHeader(const Options& opt) {
         "# A pose claimed here is a false pose. For the scene-level method:\n"
         "#   pcl_icf_bench --methods icf-scene THIS_MANIFEST\n"
         "# (cluster=all is the whole frame: the cluster methods are not run on these cases).\n";
+  if (opt.kind == "clutter")
+    text +=
+        "# CLUTTERED DESKS (issue 12): 10-25 objects touching, stacked, more on a shelf behind;\n"
+        "# Kinect v1 holes and flying pixels along depth edges. Whole organized frames (x y z\n"
+        "# rgb). K_NNN: the target 30-100% visible, group by visible share (K-v30-50, K-v50-75,\n"
+        "# K-v75-100); K_NNN_absent: the same desk without it (truth=none, a pose is false).\n"
+        "#   pcl_icf_bench --methods icf-scene THIS_MANIFEST\n";
   if (opt.kind == "present")
     text +=
         "# TARGET PRESENT beside a similar shape of its colour: each scene is a whole organized\n"
@@ -428,17 +449,24 @@ std::string writeCase(const Options& opt, const Group& g, const Case& c, const s
   return line + truthSpec(c.truth) + " symmetry=" + symmetrySpec(c.model) + " cluster=all\n";
 }
 
-/** Every case of every group, written with its manifest; the number of cases. */
-std::size_t writeSuite(const Options& opt, const std::vector<Group>& groups) {
+/** Creates the suite's folders, opens \a manifest on opt.manifest with its header written, and
+ * returns the folder its paths are relative to. */
+fs::path openSuite(const Options& opt, std::ofstream& manifest) {
   const fs::path base =
       opt.manifest.parent_path().empty() ? fs::path(".") : opt.manifest.parent_path();
-  fs::create_directories(opt.out / "models");
-  fs::create_directories(opt.out / opt.kind);
-  fs::create_directories(base);
-  std::ofstream manifest(opt.manifest);
+  for (const fs::path& dir : {opt.out / "models", opt.out / opt.kind, base})
+    fs::create_directories(dir);
+  manifest.open(opt.manifest);
   if (!manifest)
     throw std::runtime_error("cannot write " + opt.manifest.string());
   manifest << manifestHeader(opt);
+  return base;
+}
+
+/** Every case of every group, written with its manifest; the number of cases. */
+std::size_t writeSuite(const Options& opt, const std::vector<Group>& groups) {
+  std::ofstream manifest;
+  const fs::path base = openSuite(opt, manifest);
   const bool tty = isatty(STDERR_FILENO);
   std::size_t written = 0;
   for (std::size_t g = 0; g < groups.size(); ++g) {
@@ -466,6 +494,70 @@ std::size_t writeSuite(const Options& opt, const std::vector<Group>& groups) {
   if (tty)
     std::fprintf(stderr, "\n");
   return written;
+}
+
+/** The visibility band of a clutter case's group. */
+std::string visibilityBand(double visible) {
+  return visible < 0.5 ? "K-v30-50" : visible < 0.75 ? "K-v50-75" : "K-v75-100";
+}
+
+/** --kind clutter: opt.cases desks, desk k from seed + k with target k mod the targets (the
+ * thesis models, or --models), each written with and without its target. */
+std::size_t writeClutterSuite(const Options& opt) {
+  std::vector<std::string> targets = opt.models.empty() ? t::thesisModelNames() : opt.models;
+  const std::vector<std::string> pool = {
+      "Box5",   "EisKaffe", "YellowRoundSalt", "Amicelly",     "Cup",
+      "Statue", "LargeBox", "OtherBox",        "TallCylinder", "WideCylinder"};
+  for (const auto& target : targets)
+    if (isMeshFile(target) || std::find(pool.begin(), pool.end(), target) == pool.end())
+      throw std::invalid_argument("--kind clutter: unknown target model " + target);
+  std::ofstream manifest;
+  const fs::path base = openSuite(opt, manifest);
+  const bool tty = isatty(STDERR_FILENO);
+  for (int k = 0; k < opt.cases; ++k) {
+    const std::string& target = targets[static_cast<std::size_t>(k) % targets.size()];
+    std::vector<t::SyntheticModel> distractors;
+    for (const auto& name : pool)
+      if (name != target)
+        distractors.push_back(modelByName(name));
+    const t::SyntheticModel model = modelByName(target);
+    const fs::path model_path = opt.out / "models" / (target + ".ply");
+    if (pcl::io::savePLYFileBinary(model_path.string(), model.mesh) != 0)
+      throw std::runtime_error("cannot write " + model_path.string());
+    // Visibility bands in turn with the targets (k mod 3: 30-50%, 50-75%, 75-100%): a desk
+    // drawn freely hides its target less than half the time.
+    t::ClutterSpec spec;
+    const double band_edges[4] = {0.3, 0.5, 0.75, 1.0};
+    spec.min_target_visible = band_edges[k % 3];
+    spec.max_target_visible = band_edges[k % 3 + 1];
+    const t::ClutterScene scene =
+        t::makeClutterScene(model, distractors, opt.seed + static_cast<std::uint64_t>(k), spec);
+    char name[32];
+    std::snprintf(name, sizeof(name), "K_%03d", k);
+    const std::string model_rel = fs::relative(model_path, base).string();
+    for (const bool absent : {false, true}) {
+      const std::string case_name = std::string(name) + (absent ? "_absent" : "");
+      const fs::path scene_path = opt.out / opt.kind / (case_name + ".pcd");
+      if (pcl::io::savePCDFileBinaryCompressed(scene_path.string(),
+                                               *(absent ? scene.absent : scene.present).cloud) != 0)
+        throw std::runtime_error("cannot write " + scene_path.string());
+      manifest << "name=" << case_name << " group="
+               << (absent ? std::string("K-absent") : visibilityBand(scene.target_visible))
+               << " scene=" << fs::relative(scene_path, base).string() << " model=" << model_rel
+               << " units=m truth="
+               << (absent ? std::string("none")
+                          : truthSpec(scene.poses[0]) + " symmetry=" + symmetrySpec(target))
+               << " cluster=all\n";
+    }
+    if (tty)
+      std::fprintf(stderr, "\r[%d/%d] %s: %s, %zu objects, %.0f%% visible   ", k + 1, opt.cases,
+                   name, target.c_str(), scene.names.size(), 100.0 * scene.target_visible);
+  }
+  if (tty)
+    std::fprintf(stderr, "\n");
+  if (!manifest)
+    throw std::runtime_error("cannot write " + opt.manifest.string());
+  return 2 * static_cast<std::size_t>(opt.cases);
 }
 
 /** Sequence k's objects: two distinct thesis models tracked, A moving along a smooth curve at
@@ -620,6 +712,12 @@ int main(int argc, char** argv) {
       const std::size_t written = writeSequences(opt);
       std::printf("wrote %zu sequences of %d frames to %s\n", written, opt.frames,
                   (opt.out / "sequence").string().c_str());
+      return 0;
+    }
+    if (opt.kind == "clutter") {
+      const std::size_t written = writeClutterSuite(opt);
+      std::printf("wrote %zu cases (%d desks, with and without the target) to %s, manifest %s\n",
+                  written, opt.cases, opt.out.string().c_str(), opt.manifest.string().c_str());
       return 0;
     }
     const std::vector<Group> groups = selectedGroups(opt);

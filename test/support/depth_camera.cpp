@@ -354,13 +354,7 @@ Eigen::Isometry3d standOnTable(const pcl::PolygonMesh& mesh, const Eigen::Vector
   return model_to_table;
 }
 
-TabletopScene makeTabletopScene(const std::vector<SyntheticModel>& objects,
-                                const std::vector<Eigen::Vector3d>& table_xy_yaw,
-                                const CameraIntrinsics& intrinsics, const ScanNoise& noise,
-                                double camera_height, double camera_tilt_deg) {
-  if (objects.size() != table_xy_yaw.size()) {
-    throw std::invalid_argument("makeTabletopScene: one (x, y, yaw) per object is required");
-  }
+Eigen::Isometry3d tableToCamera(double camera_height, double camera_tilt_deg) {
   if (!(camera_height > 0.0) || !(camera_tilt_deg > 0.0 && camera_tilt_deg <= 90.0)) {
     throw std::invalid_argument("makeTabletopScene: need height > 0 and tilt in (0, 90]");
   }
@@ -374,9 +368,68 @@ TabletopScene makeTabletopScene(const std::vector<SyntheticModel>& objects,
   camera_to_table.linear().col(1) = down;
   camera_to_table.linear().col(2) = forward;
   camera_to_table.translation() = -(camera_height / std::sin(tilt)) * forward;
+  return camera_to_table.inverse();
+}
 
+double visibleShare(const Scan& scene, int label, const SceneObject& object,
+                    const CameraIntrinsics& intrinsics) {
+  SceneObject alone = object;
+  alone.label = 0;
+  const Scan own = renderScan({alone}, intrinsics, ScanNoise::none());
+  const auto covered = std::count(own.labels.begin(), own.labels.end(), 0);
+  const auto seen = std::count(scene.labels.begin(), scene.labels.end(), label);
+  return covered > 0 ? std::min(1.0, static_cast<double>(seen) / static_cast<double>(covered))
+                     : 0.0;
+}
+
+void addEdgeArtefacts(Scan& scan, const EdgeArtefacts& artefacts) {
+  if (!(artefacts.edge_step > 0.0) || !(artefacts.dropout >= 0.0 && artefacts.dropout <= 1.0) ||
+      !(artefacts.flying >= 0.0 && artefacts.flying <= 1.0))
+    throw std::invalid_argument("addEdgeArtefacts: invalid parameters");
+  auto& cloud = *scan.cloud;
+  const int width = static_cast<int>(cloud.width), height = static_cast<int>(cloud.height);
+  const std::vector<pcl::PointXYZRGB> measured(cloud.points.begin(), cloud.points.end());
+  std::mt19937_64 rng(artefacts.seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (int v = 0; v < height; ++v)
+    for (int u = 0; u < width; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * width + u;
+      const float z = measured[i].z;
+      if (!std::isfinite(z))
+        continue;
+      float other = z;  // the neighbour across the largest step
+      const int du[4] = {-1, 1, 0, 0}, dv[4] = {0, 0, -1, 1};
+      for (int k = 0; k < 4; ++k) {
+        const int nu = u + du[k], nv = v + dv[k];
+        if (nu < 0 || nv < 0 || nu >= width || nv >= height)
+          continue;
+        const float zn = measured[static_cast<std::size_t>(nv) * width + nu].z;
+        if (std::isfinite(zn) && std::abs(zn - z) > std::abs(other - z))
+          other = zn;
+      }
+      if (!(std::abs(other - z) > artefacts.edge_step))
+        continue;
+      if (unit(rng) < artefacts.dropout) {
+        cloud[i].x = cloud[i].y = cloud[i].z = nan;
+      } else if (unit(rng) < artefacts.flying) {
+        const float scale = (z + static_cast<float>(unit(rng)) * (other - z)) / z;
+        cloud[i].x *= scale;
+        cloud[i].y *= scale;
+        cloud[i].z *= scale;
+      }
+    }
+}
+
+TabletopScene makeTabletopScene(const std::vector<SyntheticModel>& objects,
+                                const std::vector<Eigen::Vector3d>& table_xy_yaw,
+                                const CameraIntrinsics& intrinsics, const ScanNoise& noise,
+                                double camera_height, double camera_tilt_deg) {
+  if (objects.size() != table_xy_yaw.size()) {
+    throw std::invalid_argument("makeTabletopScene: one (x, y, yaw) per object is required");
+  }
   TabletopScene scene;
-  scene.table_to_camera = camera_to_table.inverse();
+  scene.table_to_camera = tableToCamera(camera_height, camera_tilt_deg);
   const Eigen::Vector3d normal = scene.table_to_camera.linear() * Eigen::Vector3d::UnitZ();
   const double d = -normal.dot(scene.table_to_camera.translation());
   scene.table_plane = Eigen::Vector4d(normal.x(), normal.y(), normal.z(), d).cast<float>();

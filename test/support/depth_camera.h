@@ -135,6 +135,33 @@ struct TabletopScene {
  *  (as makeTabletopScene places its objects). */
 Eigen::Isometry3d standOnTable(const pcl::PolygonMesh& mesh, const Eigen::Vector3d& xy_yaw);
 
+/** \brief Table frame -> camera frame of the table-top camera: \a camera_height (m) above the
+ *  table, looking at the table centre with its optical axis tilted \a camera_tilt_deg below the
+ *  horizontal, the image x axis along the table's x axis (as makeTabletopScene places it).
+ *  \throws std::invalid_argument if the height is not positive or the tilt is not in (0, 90]. */
+Eigen::Isometry3d tableToCamera(double camera_height, double camera_tilt_deg);
+
+/** \brief Share of \a object's pixels, rendered alone without noise, that carry \a label in
+ *  \a scene (its visible fraction: occlusion and the image border counted), in [0, 1]. */
+double visibleShare(const Scan& scene, int label, const SceneObject& object,
+                    const CameraIntrinsics& intrinsics);
+
+/** \brief What a Kinect v1 does at depth edges, beyond ScanNoise. A pixel is on an edge when a
+ *  4-neighbour's depth differs by more than edge_step; there its depth is lost with probability
+ *  dropout (NaN, the sensor's holes along silhouettes), else with probability flying it is a
+ *  flying pixel: moved along its ray to a uniform point between its own depth and the
+ *  neighbour's (the two surfaces' returns mixed). Pixels off edges are not touched. */
+struct EdgeArtefacts {
+  double edge_step = 0.03;  ///< metres
+  double dropout = 0.5;     ///< probability in [0, 1]
+  double flying = 0.3;      ///< probability in [0, 1], of the pixels not dropped
+  std::uint64_t seed = 1;   ///< random seed (pixels in row-major order)
+};
+
+/** \brief Applies \a artefacts to \a scan's cloud (labels unchanged: the render's truth).
+ *  Edges are found on the cloud as it is (after ScanNoise). Same scan and seed, same output. */
+void addEdgeArtefacts(Scan& scan, const EdgeArtefacts& artefacts);
+
 /** \brief Renders objects standing upright on a 1.2 x 0.8 m table.
  *
  * The table lies in the z = 0 plane of the table frame (x along its 1.2 m side). The camera is

@@ -5,6 +5,7 @@
 #include "support/depth_camera.h"
 #include "support/mesh_geometry.h"
 #include "support/pose_error.h"
+#include "support/synthetic_clutter.h"
 #include "support/synthetic_models.h"
 
 #include <gtest/gtest.h>
@@ -583,6 +584,129 @@ TEST(DepthCamera, TabletopScene) {
       EXPECT_EQ(a.getVector3fMap(), b.getVector3fMap());
     }
   }
+}
+
+// Edge artefacts against a scene with one known depth edge: a wall at 1 m, a 20 cm box centred
+// at 0.8 m (its front face at 0.7 m). Oracle: the pixels whose 4-neighbours differ by more than
+// edge_step are the box's outline (computed here from the noise-free render); only they may change,
+// every one of them is either dropped (NaN), a flying pixel between the two depths on its own ray,
+// or untouched; with dropout 1 all of them are NaN.
+TEST(DepthCamera, EdgeArtefactsOnlyAlongDepthEdges) {
+  const pcl::PolygonMesh wall = makePlane(3.0, 3.0), box = makeBox(0.2, 0.2, 0.2);
+  SceneObject w, b;
+  w.mesh = &wall;
+  w.pose = Eigen::Translation3d(0.0, 0.0, 1.0) * Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX());
+  b.mesh = &box;
+  b.pose = Eigen::Translation3d(0.0, 0.0, 0.8);
+  b.label = 1;
+  const CameraIntrinsics k;
+  const Scan clean = renderScan({w, b}, k, ScanNoise::none());
+  const auto& c = *clean.cloud;
+  std::vector<bool> edge(c.size(), false);
+  std::size_t edges = 0;
+  for (int v = 0; v < k.height; ++v)
+    for (int u = 0; u < k.width; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * k.width + u;
+      const int du[4] = {-1, 1, 0, 0}, dv[4] = {0, 0, -1, 1};
+      for (int n = 0; n < 4; ++n) {
+        const int nu = u + du[n], nv = v + dv[n];
+        if (nu >= 0 && nv >= 0 && nu < k.width && nv < k.height &&
+            std::abs(c[static_cast<std::size_t>(nv) * k.width + nu].z - c[i].z) > 0.03f)
+          edge[i] = true;
+      }
+      edges += edge[i];
+    }
+  ASSERT_GT(edges, 400u);  // the box's outline on both sides of the step
+  EdgeArtefacts a;
+  a.seed = 7;
+  Scan scan = clean;
+  scan.cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZRGB>>(*clean.cloud);
+  addEdgeArtefacts(scan, a);
+  std::size_t dropped = 0, flying = 0;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    const auto& p = (*scan.cloud)[i];
+    if (!edge[i]) {
+      EXPECT_EQ(p.getVector3fMap(), c[i].getVector3fMap()) << "pixel " << i;
+      continue;
+    }
+    if (!std::isfinite(p.z)) {
+      ++dropped;
+      continue;
+    }
+    if (p.z != c[i].z) {
+      ++flying;
+      EXPECT_GT(p.z, 0.7f - 1e-4f);  // between the box's front face (0.7 m) and the wall
+      EXPECT_LT(p.z, 1.0f + 1e-4f);
+      EXPECT_NEAR(p.getVector3fMap().normalized().dot(c[i].getVector3fMap().normalized()), 1.f,
+                  1e-6f)
+          << "a flying pixel stays on its ray";
+    }
+  }
+  // Binomial counts: dropout 0.5 of the edges, flying 0.3 of the rest; 6 standard deviations.
+  const double n = static_cast<double>(edges);
+  EXPECT_NEAR(static_cast<double>(dropped), 0.5 * n, 6.0 * std::sqrt(0.25 * n));
+  EXPECT_NEAR(static_cast<double>(flying), 0.15 * n, 6.0 * std::sqrt(0.1275 * n));
+  a.dropout = 1.0;
+  Scan all = clean;
+  all.cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZRGB>>(*clean.cloud);
+  addEdgeArtefacts(all, a);
+  for (std::size_t i = 0; i < c.size(); ++i)
+    EXPECT_EQ(std::isfinite((*all.cloud)[i].z), !edge[i]) << "pixel " << i;
+}
+
+// A cluttered desk against what its spec promises: the object count, the target's visible
+// share (recounted from the labels and a render of the target alone), the target absent from
+// the twin (and only the target's pixels changed there, up to noise and the edges), every
+// object on the desk, a box's top or the shelf; same seed, same scene.
+TEST(SyntheticClutter, DeskMeetsItsSpec) {
+  std::vector<SyntheticModel> distractors;
+  for (const char* name : {"EisKaffe", "YellowRoundSalt", "Amicelly", "Cup", "Statue"})
+    distractors.push_back(thesisModel(name));
+  const SyntheticModel target = thesisModel("Box5");
+  const ClutterSpec spec;
+  int stacked = 0, background = 0;
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    const ClutterScene scene = makeClutterScene(target, distractors, seed, spec);
+    ASSERT_EQ(scene.names.front(), "Box5");
+    ASSERT_EQ(scene.poses.size(), scene.names.size());
+    int on_desk = 0;
+    for (std::size_t i = 0; i < scene.names.size(); ++i) {
+      on_desk += !scene.background[i];
+      stacked += scene.stacked[i];
+      background += scene.background[i];
+      if (i > 0) {
+        EXPECT_NE(scene.names[i], "Box5") << "the target's model is not a distractor";
+      }
+    }
+    EXPECT_LE(on_desk, spec.max_objects);
+    EXPECT_GE(on_desk, 3) << "seed " << seed;  // placement may fail for some, not most
+    EXPECT_GE(scene.target_visible, spec.min_target_visible);
+    EXPECT_LE(scene.target_visible, 1.0);
+    SceneObject alone;
+    alone.mesh = &target.mesh;
+    alone.pose = scene.poses[0];
+    EXPECT_DOUBLE_EQ(visibleShare(scene.present, 1, alone, CameraIntrinsics()),
+                     scene.target_visible);
+    EXPECT_EQ(std::count(scene.absent.labels.begin(), scene.absent.labels.end(), 1), 0);
+    EXPECT_GT(std::count(scene.present.labels.begin(), scene.present.labels.end(), 1), 0);
+    // The target's model frame: it stands upright, its z axis the desk's normal.
+    const Eigen::Vector3d up = scene.poses[0].linear() * Eigen::Vector3d::UnitZ();
+    EXPECT_NEAR(up.dot(scene.desk_plane.head<3>().cast<double>()), 1.0, 1e-6);  // a float plane
+    const double height =
+        scene.desk_plane.head<3>().cast<double>().dot(scene.poses[0].translation()) +
+        scene.desk_plane[3];
+    EXPECT_GE(height, -0.001) << "the target stands on the desk or on an object, not below";
+  }
+  EXPECT_GT(stacked, 0) << "6 desks of 10-25 objects stack something";
+  EXPECT_GT(background, 6) << "2-5 shelf objects per desk";
+  const ClutterScene a = makeClutterScene(target, distractors, 3, spec);
+  const ClutterScene b = makeClutterScene(target, distractors, 3, spec);
+  ASSERT_EQ(a.present.cloud->size(), b.present.cloud->size());
+  for (std::size_t i = 0; i < a.present.cloud->size(); ++i) {
+    const auto &p = (*a.present.cloud)[i], &q = (*b.present.cloud)[i];
+    ASSERT_TRUE((!std::isfinite(p.z) && !std::isfinite(q.z)) || p.z == q.z) << i;
+  }
+  EXPECT_THROW(makeClutterScene(target, {}, 1, spec), std::invalid_argument);
 }
 
 TEST(DepthCamera, InvalidArguments) {

@@ -52,13 +52,9 @@ SequenceFrame renderSequenceFrame(const SequenceSpec& spec, int frame) {
       SceneObject alone;
       alone.mesh = &o.model.mesh;
       alone.pose = pose;
-      const Scan own = renderScan({alone}, spec.intrinsics, ScanNoise::none());
-      const auto covered = std::count(own.labels.begin(), own.labels.end(), 0);
-      const auto seen =
-          std::count(out.scene.scan.labels.begin(), out.scene.scan.labels.end(), label[i]);
-      visible = covered > 0 ? static_cast<double>(seen) / static_cast<double>(covered) : 0.0;
+      visible = visibleShare(out.scene.scan, label[i], alone, spec.intrinsics);
     }
-    out.visible.push_back(std::min(visible, 1.0));
+    out.visible.push_back(visible);
   }
   return out;
 }

@@ -1,0 +1,72 @@
+/**
+ * \file synthetic_clutter.h
+ * \brief A cluttered desk seen by a simulated Kinect v1 (issue 12's development data): 10-25
+ * objects touching one another, some standing on a box, more on a shelf behind the desk's edge,
+ * the target 30-100% visible, depth noise, holes and flying pixels along the edges; and the
+ * same frame with the target taken away (its target-absent twin).
+ *
+ * Used by `pcl_icf_make_dataset --kind clutter` and its tests. Lengths in metres; the desk
+ * frame is makeTabletopScene's table frame (z up, surface z = 0), see depth_camera.h.
+ */
+#pragma once
+
+#include "support/depth_camera.h"
+#include "support/synthetic_models.h"
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pcl {
+namespace icf {
+namespace test {
+
+/** \brief How a cluttered desk is drawn. */
+struct ClutterSpec {
+  int min_objects = 10;  ///< objects on the desk, the target included (uniform in [min, max])
+  int max_objects = 25;
+  /** Each object after the first is placed against one already there (bounding circles
+   * 0-gap_max apart) with this probability, else anywhere free on the desk. */
+  double touch_probability = 0.6;
+  double gap_max = 0.01;
+  /** An object stands on the top of a box already on the desk with this probability (one
+   * object per box; the target too: a can put on its neighbour). */
+  double stack_probability = 0.15;
+  int min_background = 2;  ///< objects on the shelf behind the desk (uniform in [min, max])
+  int max_background = 5;
+  /** The scene is drawn again (at most 5000 times) until the target's visible share lies in
+   * [min_target_visible, max_target_visible]. */
+  double min_target_visible = 0.3;
+  double max_target_visible = 1.0;
+  double camera_min_height = 0.5, camera_max_height = 0.8;  ///< above the desk
+  double camera_min_tilt = 35.0, camera_max_tilt = 60.0;    ///< degrees below the horizontal
+  ScanNoise noise;                                          ///< seed drawn per scene
+  EdgeArtefacts edges;                                      ///< seed drawn per scene
+};
+
+/** \brief One cluttered frame and its twin without the target. */
+struct ClutterScene {
+  Scan present;  ///< labels: 0 desk, -2 shelf, i + 1 for objects[i], -1 nothing hit
+  Scan absent;   ///< the same frame (same noise) with objects[0], the target, taken away
+  std::vector<std::string> names;        ///< model name per object; names[0] is the target's
+  std::vector<Eigen::Isometry3d> poses;  ///< model -> camera per object (metres)
+  std::vector<bool> stacked;             ///< per object: standing on a box, not on the desk
+  std::vector<bool> background;          ///< per object: on the shelf behind the desk
+  double target_visible = 0.0;           ///< visibleShare of the target in present
+  Eigen::Vector4f desk_plane = Eigen::Vector4f::Zero();  ///< as TabletopScene::table_plane
+};
+
+/** \brief Draws a cluttered desk around \a target from \a distractors (drawn with repetition;
+ * pass none that looks like the target if a second copy must not confuse the scoring).
+ * Same arguments, same scene.
+ * \throws std::invalid_argument for an empty distractor list or a spec out of range;
+ * std::runtime_error when 5000 draws miss the visibility range. */
+ClutterScene makeClutterScene(const SyntheticModel& target,
+                              const std::vector<SyntheticModel>& distractors, std::uint64_t seed,
+                              const ClutterSpec& spec = {},
+                              const CameraIntrinsics& intrinsics = {});
+
+}  // namespace test
+}  // namespace icf
+}  // namespace pcl

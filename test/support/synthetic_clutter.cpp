@@ -97,8 +97,9 @@ bool placeOnDesk(Placed& p, const std::vector<Placed>& placed, const ClutterSpec
   return false;
 }
 
-/** Puts \a p on the flat top of a desk object that carries nothing yet and is at least half as
- * wide as \a p. False when there is none. */
+/** Puts \a p on the flat top of a desk object that carries nothing yet and is at least as wide
+ * as \a p (bounding circles), so it does not overhang into the neighbours. False when there is
+ * none. */
 bool placeOnTop(Placed& p, std::vector<Placed>& placed, std::mt19937_64& rng) {
   std::vector<std::size_t> carriers;
   for (std::size_t i = 0; i < placed.size(); ++i)

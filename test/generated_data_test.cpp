@@ -40,17 +40,9 @@ int run(const std::string& command) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-class GeneratedData : public ::testing::Test {
+class GeneratedData : public pcl_icf_test::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("pcl_icf_generated_data_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  GeneratedData() : TempDirTest("pcl_icf_generated_data_test") {}
 };
 
 /** The float fields of two decoded clouds agree point by point: within \a tolerance, NaN

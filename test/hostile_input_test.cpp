@@ -112,15 +112,9 @@ void expectBoundedFileError(const std::function<void()>& load, const std::string
       << what[std::min(WEXITSTATUS(status), 4)] << "; expected '" << fragment << "'";
 }
 
-class HostileInput : public ::testing::Test {
+class HostileInput : public pcl_icf_test::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("pcl_icf_hostile_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  HostileInput() : TempDirTest("pcl_icf_hostile") {}
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   std::string write(const std::string& name, const std::string& content) const {
     std::ofstream(path(name), std::ios::binary) << content;
@@ -131,7 +125,6 @@ class HostileInput : public ::testing::Test {
     const std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     return write(name, all.substr(0, static_cast<std::size_t>(keep * all.size())));
   }
-  fs::path dir_;
 };
 
 /** Box5 seen from 0.8 m at a fixed oblique pose, with the simulator's noise and outliers. */

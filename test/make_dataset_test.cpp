@@ -7,6 +7,7 @@
 // bad options are refused.
 #include "support/mesh_geometry.h"
 #include "support/synthetic_models.h"
+#include "test_paths.h"
 
 #include <pcl/io/pcd_io.h>
 #include <pcl/point_cloud.h>
@@ -79,17 +80,9 @@ int pointsInside(const pcl::PointCloud<pcl::PointXYZRGB>& frame, const pcl::Poly
   return inside;
 }
 
-class MakeDataset : public ::testing::Test {
+class MakeDataset : public pcl_icf_test::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("pcl_icf_make_dataset_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  MakeDataset() : TempDirTest("pcl_icf_make_dataset_test") {}
 };
 
 TEST_F(MakeDataset, SequenceFramesAgreeWithTheirGroundTruth) {

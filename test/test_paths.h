@@ -3,10 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <utility>
 
 namespace pcl_icf_test {
 
@@ -34,6 +37,25 @@ inline std::string absentMessage(const std::string& relative) {
          (inCi() ? " is absent, and CI=true requires the real data"
                  : " is absent (clone beside the project's shared folder to run this test)");
 }
+
+/** A test fixture with a fresh, empty folder of its own, dir_ =
+ * <tmp>/<prefix>_<pid>_<test name>, removed after the test. */
+class TempDirTest : public ::testing::Test {
+ protected:
+  explicit TempDirTest(std::string prefix) : prefix_(std::move(prefix)) {}
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           (prefix_ + "_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::filesystem::path dir_;
+
+ private:
+  std::string prefix_;
+};
 
 }  // namespace pcl_icf_test
 

@@ -5,6 +5,7 @@
 // no-overwrite / --force rules and batch mode.
 #include "support/pose_error.h"
 #include "support/synthetic_models.h"
+#include "test_paths.h"
 
 #include <pcl/conversions.h>
 #include <pcl/icf/io/mesh_io.h>
@@ -78,16 +79,9 @@ bool canRender() {
   return (display && *display) || std::system("command -v xvfb-run >/dev/null 2>&1") == 0;
 }
 
-class Tool : public ::testing::Test {
+class Tool : public pcl_icf_test::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("pcl_icf_tool_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  Tool() : TempDirTest("pcl_icf_tool_test") {}
 
   /** Runs pcl_icf_tool with \a args (already shell-quoted where needed). */
   Result run(const std::string& args) {
@@ -140,7 +134,6 @@ class Tool : public ::testing::Test {
         hidden.push_back(e.path().filename().string());
     return hidden;
   }
-  fs::path dir_;
 };
 
 void expectResultSchema(const json& j) {

@@ -6,6 +6,7 @@
 // frame, bad frames named and skipped, the stream going on, exit status as in batch mode.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include "test_paths.h"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -70,17 +71,13 @@ std::pair<unsigned, unsigned> pngSize(const fs::path& path) {
   return {be32(16), be32(20)};
 }
 
-class ToolTrack : public ::testing::Test {
+class ToolTrack : public pcl_icf_test::TempDirTest {
  protected:
+  ToolTrack() : TempDirTest("pcl_icf_tool_track_test") {}
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("pcl_icf_tool_track_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
+    TempDirTest::SetUp();
     fs::create_directories(dir_ / "frames");
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
 };
 
 TEST_F(ToolTrack, BadFramesAreNamedAndTheStreamGoesOn) {

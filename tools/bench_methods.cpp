@@ -24,11 +24,32 @@ namespace bench {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-namespace {
-
 double msSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
+
+CloudN::Ptr clusterWithNormals(const CloudXYZ::Ptr& cluster, int k, double radius, int threads) {
+  pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::PointNormal> estimation(
+      static_cast<unsigned>(threads));
+  estimation.setInputCloud(cluster);
+  if (k > 0)
+    estimation.setKSearch(k);
+  else
+    estimation.setRadiusSearch(radius);
+  const Eigen::Vector3f c = cluster->sensor_origin_.head<3>();
+  estimation.setViewPoint(c.x(), c.y(), c.z());
+  auto out = pcl::make_shared<CloudN>();
+  estimation.compute(*out);
+  for (std::size_t i = 0; i < out->size(); ++i)
+    (*out)[i].getVector3fMap() = (*cluster)[i].getVector3fMap();
+  out->erase(std::remove_if(
+                 out->begin(), out->end(),
+                 [](const pcl::PointNormal& p) { return !p.getNormalVector3fMap().allFinite(); }),
+             out->end());
+  return out;
+}
+
+namespace {
 
 /** PCL's point-to-plane LLS, except that a singular system (NaN step: PCL inverts it without a
  * rank check) gives no step instead of poisoning the cloud, which would abort in the kd-tree.
@@ -186,24 +207,7 @@ MethodRun runIcp(const CloudXYZ::Ptr& cluster, const PreparedModel& model, bool 
   if (!plane) {
     scene_to_model = icpPointToPoint(cluster, model, guess, 0.05, run.converged);
   } else {
-    auto source = pcl::make_shared<CloudN>();
-    pcl::copyPointCloud(*cluster, *source);
-    pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::PointNormal> normals(
-        static_cast<unsigned>(threads));
-    normals.setInputCloud(cluster);
-    normals.setRadiusSearch(0.01);
-    normals.setViewPoint(cluster->sensor_origin_.x(), cluster->sensor_origin_.y(),
-                         cluster->sensor_origin_.z());
-    CloudN estimated;
-    normals.compute(estimated);
-    for (std::size_t i = 0; i < source->size(); ++i)
-      (*source)[i].getNormalVector3fMap() = estimated[i].getNormalVector3fMap();
-    // Points without a normal (isolated outliers) would poison the point-to-plane system.
-    source->erase(std::remove_if(source->begin(), source->end(),
-                                 [](const pcl::PointNormal& p) {
-                                   return !p.getNormalVector3fMap().allFinite();
-                                 }),
-                  source->end());
+    const CloudN::Ptr source = clusterWithNormals(cluster, 0, 0.01, threads);
     pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> icp;
     icp.setTransformationEstimation(pcl::make_shared<GuardedPointToPlaneLLS>());
     icp.setInputSource(source);

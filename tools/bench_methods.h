@@ -18,6 +18,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/StdVector>
 
+#include <chrono>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -79,6 +80,14 @@ struct MethodRun {
 /** pcl::IterativeClosestFace with \a params (strategy, fallback, threads). */
 MethodRun runIcf(const CloudXYZ::Ptr& cluster, const PreparedModel& model,
                  const pcl::icf::IcfParams& params);
+
+/** Milliseconds since \a start (steady clock). */
+double msSince(std::chrono::steady_clock::time_point start);
+
+/** The cluster's points with PCL's normals (NormalEstimationOMP over the \a k nearest
+ * neighbours, or within \a radius when \a k is 0) turned towards the sensor origin; points
+ * without a normal (isolated outliers, which would poison a point-to-plane system) left out. */
+CloudN::Ptr clusterWithNormals(const CloudXYZ::Ptr& cluster, int k, double radius, int threads);
 
 /** PCL's ICP from the centroid start (model surface centroid on the cluster centroid, no
  * rotation) on the dense samples: point-to-point, or point-to-plane with scene normals. */

@@ -17,7 +17,6 @@
 #include <opencv2/surface_matching.hpp>
 
 #include <omp.h>
-#include <pcl/features/normal_3d_omp.h>
 
 #include <algorithm>
 #include <chrono>
@@ -44,10 +43,6 @@ struct PeerModel {
 };
 
 namespace {
-
-double msSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 int threadCount(int threads) {
   return threads > 0 ? threads
@@ -143,28 +138,6 @@ cv::Mat withNormals(const CloudN& samples) {
   return m;
 }
 
-/** The cluster with normals from its 10 nearest neighbours (the sample's count), turned towards
- * the camera by PCL's estimation, as the PCL rows' normals are; points without a normal
- * dropped. (OpenCV's computeNormalsPC3d gave the same poses after its ICP: the flips described
- * at runPpf come from that ICP, not from the normals.) */
-CloudN::Ptr sceneNormals(const CloudXYZ::Ptr& cluster, int threads) {
-  pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::PointNormal> estimation(
-      static_cast<unsigned>(threads));
-  estimation.setInputCloud(cluster);
-  estimation.setKSearch(10);
-  const Eigen::Vector3f c = cluster->sensor_origin_.head<3>();
-  estimation.setViewPoint(c.x(), c.y(), c.z());
-  auto out = pcl::make_shared<CloudN>();
-  estimation.compute(*out);
-  for (std::size_t i = 0; i < out->size(); ++i)
-    (*out)[i].getVector3fMap() = (*cluster)[i].getVector3fMap();
-  out->erase(std::remove_if(
-                 out->begin(), out->end(),
-                 [](const pcl::PointNormal& p) { return !p.getNormalVector3fMap().allFinite(); }),
-             out->end());
-  return out;
-}
-
 /** OpenCV's sample: scene normals from 10 neighbours towards the camera, one scene reference
  * point in 40 after sampling at 5% of the scene's extent, then OpenCV's ICP (100 iterations,
  * tolerance 0.005, rejection 2.5, 8 levels) on the 5 best-voted poses; the lowest residual wins.
@@ -175,7 +148,10 @@ MethodRun runPpf(const CloudXYZ::Ptr& cluster, const PeerModel& model, int threa
   MethodRun run;
   const auto start = Clock::now();
   OmpThreads team(threadCount(threads));
-  const cv::Mat scene = withNormals(*sceneNormals(cluster, threadCount(threads)));
+  // Scene normals from 10 neighbours (the sample's count), turned towards the camera, as the PCL
+  // rows' are. (OpenCV's computeNormalsPC3d gave the same poses after its ICP: the flips
+  // described above come from that ICP, not from the normals.)
+  const cv::Mat scene = withNormals(*clusterWithNormals(cluster, 10, 0.0, threadCount(threads)));
   std::vector<ppf::Pose3DPtr> poses;
   model.detector->match(scene, poses, 1.0 / 40.0, 0.05);
   if (poses.size() > 5)

@@ -476,7 +476,10 @@ std::size_t writeSuite(const Options& opt, const std::vector<Group>& groups) {
     const std::string& target = groups[g].target;
     const fs::path model_path =
         opt.out / "models" / ((isMeshFile(target) ? groups[g].name : target) + ".ply");
-    if (pcl::io::savePLYFileBinary(model_path.string(), modelByName(groups[g].target).mesh) != 0)
+    // The target is objects[0] except in the absent kind, where it is not on the table.
+    const pcl::PolygonMesh target_mesh =
+        objects.front().name == target ? objects.front().mesh : modelByName(target).mesh;
+    if (pcl::io::savePLYFileBinary(model_path.string(), target_mesh) != 0)
       throw std::runtime_error("cannot write " + model_path.string());
     for (int k = 0; k < opt.cases; ++k) {
       const std::uint64_t seed = opt.seed + 1000 * g + static_cast<std::uint64_t>(k);
@@ -513,17 +516,25 @@ std::size_t writeClutterSuite(const Options& opt) {
       throw std::invalid_argument("--kind clutter: unknown target model " + target);
   std::ofstream manifest;
   const fs::path base = openSuite(opt, manifest);
+  // Every model built once; each target's mesh written once, its distractors listed once.
+  std::map<std::string, t::SyntheticModel> models;
+  for (const auto& name : pool)
+    models[name] = modelByName(name);
+  std::map<std::string, std::vector<t::SyntheticModel>> distractors_of;
+  for (const auto& target : targets) {
+    const fs::path model_path = opt.out / "models" / (target + ".ply");
+    if (pcl::io::savePLYFileBinary(model_path.string(), models.at(target).mesh) != 0)
+      throw std::runtime_error("cannot write " + model_path.string());
+    for (const auto& name : pool)
+      if (name != target)
+        distractors_of[target].push_back(models.at(name));
+  }
   const bool tty = isatty(STDERR_FILENO);
   for (int k = 0; k < opt.cases; ++k) {
     const std::string& target = targets[static_cast<std::size_t>(k) % targets.size()];
-    std::vector<t::SyntheticModel> distractors;
-    for (const auto& name : pool)
-      if (name != target)
-        distractors.push_back(modelByName(name));
-    const t::SyntheticModel model = modelByName(target);
+    const std::vector<t::SyntheticModel>& distractors = distractors_of.at(target);
+    const t::SyntheticModel& model = models.at(target);
     const fs::path model_path = opt.out / "models" / (target + ".ply");
-    if (pcl::io::savePLYFileBinary(model_path.string(), model.mesh) != 0)
-      throw std::runtime_error("cannot write " + model_path.string());
     // Visibility bands in turn with the targets (k mod 3: 30-50%, 50-75%, 75-100%): a desk
     // drawn freely hides its target less than half the time.
     t::ClutterSpec spec;

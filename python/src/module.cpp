@@ -55,7 +55,8 @@ double meshExtent(const pcl::PolygonMesh& mesh) {
   return (hi - lo).allFinite() ? static_cast<double>((hi - lo).norm()) : 0.0;
 }
 
-/** The tool's rule (tools/tool_run.cpp): a mesh spanning more than 2 units is in millimetres. */
+/** The tool's rule (tools/pcl_icf_tool/tool_run.cpp): a mesh spanning more than 2 units is in
+ * millimetres. */
 constexpr double kModelMillimetreExtent = 2.0;
 
 std::shared_ptr<Model> buildModel(const pcl::PolygonMesh& mesh, const std::string& units) {

@@ -7,6 +7,8 @@
 /** \file
  * \brief pcl_icf_tool's command line: the options, their parsing and the usage text. */
 
+#include "common/arguments.h"
+
 #include <pcl/icf/localization/object_localizer.h>
 
 #include <Eigen/Core>
@@ -21,10 +23,7 @@
 namespace pcl_icf_tool {
 
 /** \brief Bad usage: an unknown option, a missing or nonsense value. Exit code 2. */
-class UsageError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+using UsageError = pcl_icf_tools::UsageError;
 
 /** \brief Units of a scene or a mesh as given on the command line. */
 enum class Units { Auto, Metres, Millimetres };

@@ -5,6 +5,7 @@
 #include "tool_track.h"
 
 #include "tool_batch.h"
+#include "tool_mesh.h"
 #include "tool_output.h"
 #include "tool_results.h"
 #include "tool_run.h"

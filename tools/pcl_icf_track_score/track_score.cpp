@@ -17,7 +17,8 @@
 //   re-found  frames from its return to the first frame with an accurate pose (bar: < 5)
 //   refine    median refine_ms of the frames it was tracked; frame: median ms of the frames
 // then the totals and whether the bars are met. Exit codes: 0 bars met, 1 not met, 2 bad input.
-#include "bench_manifest.h"
+#include "common/arguments.h"
+#include "pcl_icf_bench/bench_manifest.h"
 #include "support/pose_error.h"
 
 #include <nlohmann/json.hpp>
@@ -212,34 +213,50 @@ int usage() {
   return 2;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+/** What to score: --poses, --min-visible and the SEQDIRs. */
+struct Arguments {
   std::string poses_name = "poses.jsonl";
   double min_visible = 0.5;
   std::vector<fs::path> dirs;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if ((a == "--poses" || a == "--min-visible") && i + 1 < argc) {
-      const std::string v = argv[++i];
-      if (a == "--poses") {
-        poses_name = v;
-        continue;
-      }
-      char* end = nullptr;
-      min_visible = std::strtod(v.c_str(), &end);
-      if (v.empty() || *end != '\0' || !(min_visible >= 0.0 && min_visible <= 1.0)) {
-        std::fprintf(stderr, "pcl_icf_track_score: --min-visible: '%s' is not in [0, 1]\n",
-                     v.c_str());
-        return usage();
+};
+
+/** \throws pcl_icf_tools::UsageError for an unknown option or a bad value. */
+Arguments parseArguments(int argc, char** argv) {
+  Arguments parsed;
+  pcl_icf_tools::ArgumentReader args(argc, argv);
+  while (!args.done()) {
+    const std::string a = args.next();
+    if (a == "--poses") {
+      parsed.poses_name = args.value(a);
+    } else if (a == "--min-visible") {
+      const std::string v = args.value(a);
+      try {
+        parsed.min_visible = pcl_icf_tools::parseFraction(a, v);
+      } catch (const pcl_icf_tools::UsageError&) {
+        throw pcl_icf_tools::UsageError(a + ": '" + v + "' is not in [0, 1]");
       }
     } else if (a.rfind("-", 0) == 0) {
-      std::fprintf(stderr, "pcl_icf_track_score: unknown option or missing value: %s\n", a.c_str());
-      return usage();
+      throw pcl_icf_tools::UsageError("unknown option or missing value: " + a);
     } else {
-      dirs.emplace_back(a);
+      parsed.dirs.emplace_back(a);
     }
   }
+  return parsed;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Arguments parsed;
+  try {
+    parsed = parseArguments(argc, argv);
+  } catch (const pcl_icf_tools::UsageError& e) {
+    std::fprintf(stderr, "pcl_icf_track_score: %s\n", e.what());
+    return usage();
+  }
+  const std::string& poses_name = parsed.poses_name;
+  const double min_visible = parsed.min_visible;
+  const std::vector<fs::path>& dirs = parsed.dirs;
   if (dirs.empty())
     return usage();
   try {

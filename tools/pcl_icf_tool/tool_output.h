@@ -5,11 +5,8 @@
 #pragma once
 
 /** \file
- * \brief pcl_icf_tool's files: safe output paths, atomic writes, the posed mesh. */
-
-#include <pcl/PolygonMesh.h>
-
-#include <Eigen/Core>
+ * \brief pcl_icf_tool's files: safe output paths and atomic writes (the posed mesh written
+ * through them: tool_mesh.h). */
 
 #include <functional>
 #include <stdexcept>
@@ -40,12 +37,5 @@ void checkOutputPath(const std::string& what, const std::string& output,
  * \throws OutputError when \a write throws or the file cannot be committed. */
 void writeAtomically(const std::string& target, bool force,
                      const std::function<void(const std::string& temporary)>& write);
-
-/** \brief The mesh's vertices scaled by \a scale and then moved by \a pose (x' = R s x + t),
- * with its polygons: a plain xyz mesh. */
-pcl::PolygonMesh posedMesh(const pcl::PolygonMesh& mesh, const Eigen::Matrix4d& pose, double scale);
-
-/** \brief Bounding-box diagonal of the mesh's vertices (0 when it has none). */
-double meshExtent(const pcl::PolygonMesh& mesh);
 
 }  // namespace pcl_icf_tool

@@ -59,7 +59,7 @@
 #endif
 #include "bench_report.h"
 #include "bench_scene.h"
-#include "comma_list.h"
+#include "common/arguments.h"
 
 #include <pcl/console/print.h>
 
@@ -71,6 +71,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -148,7 +149,7 @@ void applySacOverride(pcl::icf::SacParams& p, const std::string& kv) {
   if (eq == std::string::npos)
     throw std::invalid_argument("--sac expects KEY=VALUE, got " + kv);
   const std::string key = kv.substr(0, eq);
-  const double v = std::stod(kv.substr(eq + 1));
+  const double v = pcl_icf_tools::parseNumber("--sac " + key, kv.substr(eq + 1));
   if (key == "voxel_size")
     p.voxel_size = static_cast<float>(v);
   else if (key == "normal_radius")
@@ -177,50 +178,47 @@ void applySacOverride(pcl::icf::SacParams& p, const std::string& kv) {
 
 /** The options; std::invalid_argument on a bad one. False for --help. */
 bool parseOptions(int argc, char** argv, Options& o) {
+  using namespace pcl_icf_tools;
   for (int i = 1; i < argc; ++i)
     o.command_line += std::string(" ") + argv[i];
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc)
-        throw std::invalid_argument(arg + " needs a value");
-      return argv[++i];
-    };
-    if (arg == "--out")
-      o.out_dir = value();
-    else if (arg == "--plots")
-      o.plot_dir = value();
+  // The whole-number options (their ranges are checked after the loop).
+  const std::map<std::string, int*> integers = {{"--thesis-cases", &o.thesis_cases},
+                                                {"--limit", &o.limit},
+                                                {"--threads", &o.threads},
+                                                {"--ia-iterations", &o.ia_iterations},
+                                                {"--repeat", &o.repeat}};
+  const std::map<std::string, fs::path*> folders = {{"--out", &o.out_dir},
+                                                    {"--plots", &o.plot_dir}};
+  ArgumentReader args(argc, argv);
+  while (!args.done()) {
+    const std::string arg = args.next();
+    if (const auto integer = integers.find(arg); integer != integers.end())
+      *integer->second = static_cast<int>(parseInteger(
+          arg, args.value(arg), std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
+    else if (const auto folder = folders.find(arg); folder != folders.end())
+      *folder->second = args.value(arg);
     else if (arg == "--name")
-      o.name = value();
+      o.name = args.value(arg);
     else if (arg == "--methods") {
-      o.methods = pcl_icf_tools::splitComma(value());
+      o.methods = splitComma(args.value(arg));
       for (const auto& m : o.methods)
         if (m != kSceneMethod && std::find(clusterMethods().begin(), clusterMethods().end(), m) ==
                                      clusterMethods().end())
           throw std::invalid_argument("unknown method " + m);
-    } else if (arg == "--thesis-cases")
-      o.thesis_cases = std::stoi(value());
-    else if (arg == "--limit")
-      o.limit = std::stoi(value());
-    else if (arg == "--threads")
-      o.threads = std::stoi(value());
-    else if (arg == "--ia-iterations")
-      o.ia_iterations = std::stoi(value());
-    else if (arg == "--sac") {
-      for (const auto& kv : pcl_icf_tools::splitComma(value()))
+    } else if (arg == "--sac") {
+      for (const auto& kv : splitComma(args.value(arg)))
         applySacOverride(o.sac, kv);
-    } else if (arg == "--repeat")
-      o.repeat = std::stoi(value());
-    else if (arg == "--ppf-sampling")
-      o.ppf_sampling = std::stod(value());
+    } else if (arg == "--ppf-sampling")
+      o.ppf_sampling = parseNumber(arg, args.value(arg));
     else if (arg == "--scene-min-confidence")
-      o.scene_min_confidence = std::stod(value());
-    else if (arg == "--no-plots")
+      o.scene_min_confidence = parseNumber(arg, args.value(arg));
+    else if (arg == "--no-plots") {
+      args.noValue(arg);
       o.plots = false;
-    else if (arg == "-h" || arg == "--help")
+    } else if (arg == "-h" || arg == "--help")
       return false;
-    else if (!arg.empty() && arg[0] == '-')
-      throw std::invalid_argument("unknown option " + arg);
+    else if (isOption(arg))
+      throw UsageError("unknown option " + arg);
     else
       o.manifests.push_back(arg);
   }

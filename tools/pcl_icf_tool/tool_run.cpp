@@ -4,7 +4,7 @@
  */
 #include "tool_run.h"
 
-#include "tool_output.h"
+#include "tool_mesh.h"
 
 #include <pcl/icf/face_mesh.h>
 #include <pcl/icf/io/mesh_io.h>

@@ -55,7 +55,7 @@
 // PointXYZRGB frames
 // with NaN where nothing was hit) and the manifest (default DIR/manifest.txt) whose paths are
 // relative to the manifest's directory. Exit codes: 0 written, 2 bad usage or I/O error.
-#include "comma_list.h"
+#include "common/arguments.h"
 #include "support/depth_camera.h"
 #include "support/mesh_geometry.h"
 #include "support/pose_error.h"
@@ -115,47 +115,35 @@ int usage(const char* program) {
   return 2;
 }
 
-/** \a text as a whole integer; std::invalid_argument naming \a option otherwise. */
-long long integer(const std::string& option, const std::string& text) {
-  std::size_t end = 0;
-  long long v = 0;
-  try {
-    v = std::stoll(text, &end);
-  } catch (const std::exception&) {
-    end = 0;
-  }
-  if (text.empty() || end != text.size() || (text[0] == '-' && option == "--seed"))
-    throw std::invalid_argument(option + ": '" + text + "' is not an integer");
-  return v;
-}
-
 /** The options; std::invalid_argument on a bad one. False for --help. */
 bool parseOptions(int argc, char** argv, Options& opt) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc)
-        throw std::invalid_argument(arg + " needs a value");
-      return argv[++i];
-    };
+  using namespace pcl_icf_tools;
+  ArgumentReader args(argc, argv);
+  while (!args.done()) {
+    const std::string arg = args.next();
     if (arg == "--out")
-      opt.out = value();
+      opt.out = args.value(arg);
     else if (arg == "--manifest")
-      opt.manifest = value();
+      opt.manifest = args.value(arg);
     else if (arg == "--kind")
-      opt.kind = value();
+      opt.kind = args.value(arg);
     else if (arg == "--cases")
-      opt.cases = static_cast<int>(std::clamp(integer(arg, value()), 0LL, 1000000LL));
+      opt.cases = static_cast<int>(std::clamp(parseInteger(arg, args.value(arg)), 0LL, 1000000LL));
     else if (arg == "--frames")
-      opt.frames = static_cast<int>(std::clamp(integer(arg, value()), -1LL, 1000000LL));
+      opt.frames =
+          static_cast<int>(std::clamp(parseInteger(arg, args.value(arg)), -1LL, 1000000LL));
     else if (arg == "--models")
-      opt.models = pcl_icf_tools::splitComma(value());
-    else if (arg == "--seed")
-      opt.seed = static_cast<std::uint64_t>(integer(arg, value()));
-    else if (arg == "-h" || arg == "--help")
+      opt.models = splitComma(args.value(arg));
+    else if (arg == "--seed") {
+      const std::string text = args.value(arg);
+      const long long seed = parseInteger(arg, text);
+      if (seed < 0)
+        throw UsageError(arg + ": '" + text + "' is not an integer");
+      opt.seed = static_cast<std::uint64_t>(seed);
+    } else if (arg == "-h" || arg == "--help")
       return false;
     else
-      throw std::invalid_argument("unknown option " + arg);
+      throw UsageError("unknown option " + arg);
   }
   if (opt.out.empty())
     throw std::invalid_argument("--out is required");

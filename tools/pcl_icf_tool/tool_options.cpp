@@ -28,91 +28,13 @@ double metresPerUnit(Units units) {
 
 namespace {
 
-/** Walks argv; options take their value as the next word or after '='. */
-class Args {
- public:
-  Args(int argc, const char* const* argv) : argv_(argv + 1, argv + argc) {}
-
-  bool done() const { return i_ >= argv_.size(); }
-  std::string next() {
-    std::string word = argv_[i_++];
-    value_.clear();
-    has_value_ = false;
-    const auto eq = word.find('=');
-    if (word.rfind("--", 0) == 0 && eq != std::string::npos) {
-      value_ = word.substr(eq + 1);
-      has_value_ = true;
-      word = word.substr(0, eq);
-    }
-    return word;
-  }
-  std::string value(const std::string& option) {
-    if (has_value_) {
-      has_value_ = false;
-      return value_;
-    }
-    if (i_ >= argv_.size())
-      throw UsageError(option + " needs a value");
-    return argv_[i_++];
-  }
-  /** For a flag: "--flag=..." is an error. */
-  void noValue(const std::string& option) const {
-    if (has_value_)
-      throw UsageError(option + " takes no value");
-  }
-
- private:
-  std::vector<std::string> argv_;
-  std::size_t i_ = 0;
-  std::string value_;
-  bool has_value_ = false;
-};
-
-double parseDouble(const std::string& option, const std::string& text) {
-  double v = 0.0;
-  const char* b = text.data();
-  const char* e = b + text.size();
-  if (b < e && *b == '+')
-    ++b;
-  const auto [ptr, ec] = std::from_chars(b, e, v);
-  if (text.empty() || ec != std::errc() || ptr != e || !std::isfinite(v))
-    throw UsageError(option + ": '" + text + "' is not a number");
-  return v;
-}
-
-double parsePositive(const std::string& option, const std::string& text) {
-  const double v = parseDouble(option, text);
-  if (!(v > 0.0))
-    throw UsageError(option + ": " + text + " must be > 0");
-  return v;
-}
-
-double parseFraction(const std::string& option, const std::string& text) {
-  const double v = parseDouble(option, text);
-  if (!(v >= 0.0 && v <= 1.0))
-    throw UsageError(option + ": " + text + " must be in [0, 1]");
-  return v;
-}
-
-long long parseInteger(const std::string& option, const std::string& text, long long min,
-                       long long max) {
-  long long v = 0;
-  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-  if (text.empty() || ec != std::errc() || ptr != text.data() + text.size())
-    throw UsageError(option + ": '" + text + "' is not an integer");
-  if (v < min || v > max)
-    throw UsageError(option + ": " + text + " must be in [" + std::to_string(min) + ", " +
-                     std::to_string(max) + "]");
-  return v;
-}
-
-std::uint64_t parseSeed(const std::string& option, const std::string& text) {
-  std::uint64_t v = 0;
-  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-  if (text.empty() || ec != std::errc() || ptr != text.data() + text.size())
-    throw UsageError(option + ": '" + text + "' is not a non-negative integer");
-  return v;
-}
+using pcl_icf_tools::ArgumentReader;
+using pcl_icf_tools::isOption;
+using pcl_icf_tools::parseFraction;
+using pcl_icf_tools::parseInteger;
+using pcl_icf_tools::parseNumber;
+using pcl_icf_tools::parsePositive;
+using pcl_icf_tools::parseSeed;
 
 Units parseUnits(const std::string& option, const std::string& text) {
   if (text == "m")
@@ -158,7 +80,7 @@ Eigen::Isometry3d parseCameraPose(const std::string& option, const std::string& 
   std::stringstream in(text);
   std::string part;
   while (std::getline(in, part, ','))
-    v.push_back(parseDouble(option, part));
+    v.push_back(parseNumber(option, part));
   if (v.size() != 3 && v.size() != 7)
     throw UsageError(option + ": '" + text +
                      "' is not X,Y,Z or X,Y,Z,QW,QX,QY,QZ (the camera's position and "
@@ -192,7 +114,7 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
   auto& p = o.params;
   std::vector<std::string> positional;
   bool idle_given = false;
-  Args args(argc, argv);
+  ArgumentReader args(argc, argv);
   while (!args.done()) {
     const std::string a = args.next();
     if (a == "-h" || a == "--help") {
@@ -229,7 +151,7 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
       else
         p.colour.expected = parseColour(a, v);
     } else if (a == "--color-weight" || a == "--colour-weight")
-      p.colour.weight = parseDouble(a, args.value(a));
+      p.colour.weight = parseNumber(a, args.value(a));
     else if (a == "--cluster-tolerance")
       p.segmentation.cluster.tolerance = parsePositive(a, args.value(a));
     else if (a == "--min-cluster-size")
@@ -302,7 +224,7 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
     } else if (a == "--output-all") {
       args.noValue(a);
       o.output_all = true;
-    } else if (a.size() > 1 && a[0] == '-' && a != "-")
+    } else if (isOption(a))
       throw UsageError("unknown option " + a + " (see -h)");
     else
       positional.push_back(a);

@@ -8,7 +8,8 @@
 #include <pcl/icf/usable_point.h>
 #include <pcl/point_types.h>
 #include <pcl_icf_internal/parameter_check.h>
-#include <pcl/icf/localization/impl/object_localizer.hpp>
+
+#include "impl/object_localizer.hpp"
 
 #include <omp.h>
 
@@ -491,9 +492,10 @@ void withoutExplainedPoints(std::vector<pcl::PointIndices>& clusters, const Scen
                             const pcl::Indices& explained, std::size_t min_size) {
   for (const int i : explained)
     if (i < 0 || static_cast<std::size_t>(i) >= view.points.size())
-      throw std::invalid_argument("LocalizerParams::explained_indices: index " + std::to_string(i) +
-                                  " is outside the scene's " + std::to_string(view.points.size()) +
-                                  " points");
+      throw std::invalid_argument(
+          "[pcl::icf::localization::localizeObject] LocalizerParams::explained_indices: index " +
+          std::to_string(i) + " is outside the scene's " + std::to_string(view.points.size()) +
+          " points");
   if (explained.empty())
     return;
   std::vector<pcl::PointIndices> kept;
@@ -505,53 +507,237 @@ void withoutExplainedPoints(std::vector<pcl::PointIndices>& clusters, const Scen
   clusters = std::move(kept);
 }
 
+/** localizeInView's outcome when the segmentation stopped (status not Ok): BadScene when the
+ * data cannot be a table-top scene (empty, all NaN, too few points, millimetres) or when the
+ * objects stand on the table's far side (a camera below the table), else NoClusters. */
+Localization segmentationStopped(const SceneView& view,
+                                 segmentation::TabletopSegmentation segmentation,
+                                 const LocalizerParams& params, double segmentation_ms) {
+  Localization out;
+  out.segmentation_ms = segmentation_ms;
+  const segmentation::TabletopStatus status = segmentation.status;
+  const bool bad = status == segmentation::TabletopStatus::EmptyCloud ||
+                   status == segmentation::TabletopStatus::NoFinitePoints ||
+                   status == segmentation::TabletopStatus::TooFewPoints ||
+                   status == segmentation::TabletopStatus::SceneUnitsSuspect;
+  out.status = bad ? LocalizationStatus::BadScene : LocalizationStatus::NoClusters;
+  out.message = std::string(toString(status)) +
+                (segmentation.message.empty() ? "" : ": " + segmentation.message);
+  if (status == segmentation::TabletopStatus::NoCluster) {
+    const std::size_t beyond = pointsBeyondTheTable(view, segmentation, params);
+    if (beyond >= params.segmentation.cluster.min_size) {
+      out.status = LocalizationStatus::BadScene;
+      out.message =
+          "the camera is on the wrong side of the table: nothing stands on its "
+          "side, " +
+          std::to_string(beyond) +
+          " points stand on the other (check the camera pose: --camera, or the "
+          "cloud's VIEWPOINT)";
+    }
+  }
+  out.segmentation = std::move(segmentation);
+  out.total_ms = segmentation_ms;
+  return out;
+}
+
+/** The usable points of \a view as one cluster (LocalizerParams::segment false). */
+pcl::PointIndices wholeCloud(const SceneView& view) {
+  pcl::PointIndices all;
+  for (std::size_t i = 0; i < view.points.size(); ++i)
+    if (isUsablePoint(view.points[i]))
+      all.indices.push_back(static_cast<pcl::index_t>(i));
+  return all;
+}
+
+/** The hypotheses of one scene and their judgement (judgeCluster, each into its own slot, in
+ * parallel): the clusters, the convexity segments of merged ones, and the rests that poses
+ * leave of their clusters. Hypothesis k's parent is parents_[k] (ClusterLocalization::parent). */
+class HypothesisSearch {
+ public:
+  HypothesisSearch(const SceneView& view, const DepthImage& image, const IcfModel& model,
+                   const LocalizerParams& params, std::vector<pcl::PointIndices> clusters)
+      : view_(view), image_(image), model_(model), params_(params), clusters_(std::move(clusters)) {
+    if (params.colour.expected)
+      expected_ = ColourHistogram::ofColour(*params.colour.expected, params.colour.bins);
+    parents_.assign(clusters_.size(), -1);
+    single_.assign(clusters_.size(), true);
+    for (std::size_t k = 0; k < clusters_.size(); ++k)
+      single_[k] = !clusterLooksMerged(view, clusters_[k], model, params);
+  }
+
+  /** Merged clusters: their convexity segments become clusters of their own too. */
+  void addConvexitySegments() {
+    pcl::PointCloud<pcl::PointXYZRGBA> coloured;
+    const std::size_t base = clusters_.size();
+    for (std::size_t k = 0; k < base; ++k) {
+      if (single_[k])
+        continue;
+      if (coloured.empty())
+        coloured = colouredCloud(view_);
+      for (auto& segment : segmentation::splitByConvexity(coloured, clusters_[k], params_.split))
+        if (segment.indices.size() < clusters_[k].indices.size()) {
+          clusters_.push_back(std::move(segment));
+          parents_.push_back(static_cast<int>(k));
+          single_.push_back(true);
+        }
+    }
+  }
+
+  /** Judges every hypothesis so far: compact clusters and convexity segments first; a merged
+   * cluster whole only when none of its segments was accepted (searching 100k points of four
+   * objects costs seconds). */
+  void judgeSegmentsFirst() {
+    if (params_.check_turns)
+      axes_ = principalAxes(model_);
+    threads_ = params_.threads > 0 ? params_.threads : omp_get_num_procs();
+    judged_.resize(clusters_.size());
+    std::vector<int> first, second;
+    for (std::size_t k = 0; k < clusters_.size(); ++k) {
+      const bool has_segments =
+          std::find(parents_.begin(), parents_.end(), static_cast<int>(k)) != parents_.end();
+      (has_segments ? second : first).push_back(static_cast<int>(k));
+    }
+    judge(first);
+    std::vector<int> retry;
+    for (int k : second) {
+      bool segment_accepted = false;
+      for (std::size_t j = 0; j < clusters_.size(); ++j)
+        segment_accepted = segment_accepted || (parents_[j] == k && judged_[j].accepted);
+      if (segment_accepted) {
+        judged_[static_cast<std::size_t>(k)].indices = clusters_[static_cast<std::size_t>(k)];
+        judged_[static_cast<std::size_t>(k)].reason = "not searched: a segment was accepted";
+      } else
+        retry.push_back(k);
+    }
+    judge(retry);
+  }
+
+  /** More instances: what an accepted pose leaves of its cluster is searched again, as a
+   * cluster of its own (two touching copies of the object share one Euclidean cluster); when
+   * that finds one, the first is searched again without the second's points (its pose was
+   * pulled by them). rankInstances keeps the better of a cluster and its refit. With one
+   * instance asked for, one round when nothing was accepted: a pose pulled between two
+   * touching objects is rejected, and each of them alone may be found. */
+  void searchFurtherInstances() {
+    expanded_.assign(clusters_.size(), false);
+    const bool none_accepted = std::none_of(
+        judged_.begin(), judged_.end(), [](const ClusterLocalization& c) { return c.accepted; });
+    const int rounds = std::max(params_.max_instances, none_accepted ? 2 : 1);
+    for (int round = 1; round < rounds; ++round)
+      if (!searchRests())
+        break;
+  }
+
+  /** The judged hypotheses, each with its parent. */
+  std::vector<ClusterLocalization> results() {
+    for (std::size_t k = 0; k < judged_.size(); ++k)
+      judged_[k].parent = parents_[k];
+    return std::move(judged_);
+  }
+
+ private:
+  /** Judges the hypotheses \a which, one per thread (one alone gets every thread). */
+  void judge(const std::vector<int>& which) {
+    const int m = static_cast<int>(which.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_) if (m > 1)
+    for (int j = 0; j < m; ++j) {
+      const auto k = static_cast<std::size_t>(which[static_cast<std::size_t>(j)]);
+      judged_[k] = judgeCluster(view_, image_, clusters_[k], model_, params_, m == 1 ? threads_ : 1,
+                                expected_, single_[k], axes_ ? &*axes_ : nullptr);
+    }
+  }
+
+  /** Adds \a points as a hypothesis of its own (child of \a parent); -1 when too small. */
+  int addCandidate(pcl::PointIndices points, std::size_t parent, bool expand) {
+    if (points.indices.size() < params_.segmentation.cluster.min_size)
+      return -1;
+    clusters_.push_back(std::move(points));
+    parents_.push_back(static_cast<int>(parent));
+    single_.push_back(true);
+    expanded_.push_back(expand);
+    return static_cast<int>(clusters_.size()) - 1;
+  }
+
+  void judgeAdded(const std::vector<int>& added) {
+    judged_.resize(clusters_.size());
+    judge(added);
+  }
+
+  /** The points of \a from's parent that \a from's pose leaves unexplained, as a hypothesis. */
+  int refitWithout(int from) {
+    const auto parent = static_cast<std::size_t>(parents_[static_cast<std::size_t>(from)]);
+    return addCandidate(
+        unexplainedPoints(clusters_[parent], judged_[static_cast<std::size_t>(from)].explained),
+        parent, true);
+  }
+
+  /** One round of searchFurtherInstances; false when no hypothesis holds more. */
+  bool searchRests() {
+    std::vector<int> rests;
+    const std::size_t judged = clusters_.size();
+    for (std::size_t k = 0; k < judged; ++k)
+      if (!expanded_[k] && holdsMore(judged_[k], clusters_[k])) {
+        expanded_[k] = true;
+        const int r = addCandidate(unexplainedPoints(clusters_[k], judged_[k].explained), k, false);
+        if (r >= 0)
+          rests.push_back(r);
+      }
+    if (rests.empty())
+      return false;
+    judgeAdded(rests);
+    // A promising rest is refit too, not only an accepted one: the merged pose took some of
+    // its points, so its own pose may run into its neighbour. When its refit (the neighbour)
+    // is accepted, the rest is searched once more without the neighbour's points.
+    std::vector<int> refits, sources, again;
+    for (int r : rests)
+      if (isPromising(judged_[static_cast<std::size_t>(r)], params_))
+        if (const int refit = refitWithout(r); refit >= 0) {
+          refits.push_back(refit);
+          sources.push_back(r);
+        }
+    judgeAdded(refits);
+    for (std::size_t j = 0; j < refits.size(); ++j)
+      if (judged_[static_cast<std::size_t>(refits[j])].accepted &&
+          !judged_[static_cast<std::size_t>(sources[j])].accepted)
+        if (const int rest_again = refitWithout(refits[j]); rest_again >= 0)
+          again.push_back(rest_again);
+    judgeAdded(again);
+    return true;
+  }
+
+  const SceneView& view_;
+  const DepthImage& image_;
+  const IcfModel& model_;
+  const LocalizerParams& params_;
+  std::optional<ColourHistogram> expected_;
+  std::optional<PrincipalAxes> axes_;
+  int threads_ = 1;
+  std::vector<pcl::PointIndices> clusters_;
+  std::vector<int> parents_;
+  std::vector<bool> single_, expanded_;
+  std::vector<ClusterLocalization> judged_;
+};
+
 }  // namespace
 
 Localization localizeInView(const SceneView& view, segmentation::TabletopSegmentation segmentation,
                             const IcfModel& model, const LocalizerParams& params,
                             double segmentation_ms) {
   const auto start = std::chrono::steady_clock::now();
+  if (params.segment && segmentation.status != segmentation::TabletopStatus::Ok)
+    return segmentationStopped(view, std::move(segmentation), params, segmentation_ms);
   Localization out;
   out.segmentation_ms = segmentation_ms;
   std::vector<pcl::PointIndices> clusters;
   if (params.segment) {
-    const segmentation::TabletopStatus status = segmentation.status;
-    if (status != segmentation::TabletopStatus::Ok) {
-      const bool bad = status == segmentation::TabletopStatus::EmptyCloud ||
-                       status == segmentation::TabletopStatus::NoFinitePoints ||
-                       status == segmentation::TabletopStatus::TooFewPoints ||
-                       status == segmentation::TabletopStatus::SceneUnitsSuspect;
-      out.status = bad ? LocalizationStatus::BadScene : LocalizationStatus::NoClusters;
-      out.message = std::string(toString(status)) +
-                    (segmentation.message.empty() ? "" : ": " + segmentation.message);
-      if (status == segmentation::TabletopStatus::NoCluster) {
-        const std::size_t beyond = pointsBeyondTheTable(view, segmentation, params);
-        if (beyond >= params.segmentation.cluster.min_size) {
-          out.status = LocalizationStatus::BadScene;
-          out.message =
-              "the camera is on the wrong side of the table: nothing stands on its "
-              "side, " +
-              std::to_string(beyond) +
-              " points stand on the other (check the camera pose: --camera, or the "
-              "cloud's VIEWPOINT)";
-        }
-      }
-      out.segmentation = std::move(segmentation);
-      out.total_ms = segmentation_ms;
-      return out;
-    }
     clusters = segmentation.clusters;
   } else {
-    pcl::PointIndices all;
-    for (std::size_t i = 0; i < view.points.size(); ++i)
-      if (isUsablePoint(view.points[i]))
-        all.indices.push_back(static_cast<pcl::index_t>(i));
-    if (all.indices.empty()) {
+    clusters.push_back(wholeCloud(view));
+    if (clusters.front().indices.empty()) {
       out.status = LocalizationStatus::BadScene;
       out.message = "the cloud has no finite point";
       return out;
     }
-    clusters.push_back(std::move(all));
   }
   out.segmentation = std::move(segmentation);
   withoutExplainedPoints(clusters, view, params.explained_indices,
@@ -561,131 +747,12 @@ Localization localizeInView(const SceneView& view, segmentation::TabletopSegment
   // otherwise seem to carry on into the table at its base).
   // (Without segmentation the plane has no inliers: nothing is background.)
   const DepthImage image = sceneDepthImage(view, out.segmentation.plane.inliers, params);
-
-  std::optional<ColourHistogram> expected;
-  if (params.colour.expected)
-    expected = ColourHistogram::ofColour(*params.colour.expected, params.colour.bins);
-
-  // Merged clusters: their convexity segments become clusters of their own too.
-  std::vector<int> parents(clusters.size(), -1);
-  std::vector<bool> single(clusters.size(), true);
-  for (std::size_t k = 0; k < clusters.size(); ++k)
-    single[k] = !clusterLooksMerged(view, clusters[k], model, params);
-  if (params.split_merged) {
-    pcl::PointCloud<pcl::PointXYZRGBA> coloured;
-    const std::size_t base = clusters.size();
-    for (std::size_t k = 0; k < base; ++k) {
-      if (single[k])
-        continue;
-      if (coloured.empty())
-        coloured = colouredCloud(view);
-      for (auto& segment : segmentation::splitByConvexity(coloured, clusters[k], params.split))
-        if (segment.indices.size() < clusters[k].indices.size()) {
-          clusters.push_back(std::move(segment));
-          parents.push_back(static_cast<int>(k));
-          single.push_back(true);
-        }
-    }
-  }
-
-  std::optional<PrincipalAxes> axes;
-  if (params.check_turns)
-    axes = principalAxes(model);
-  const int threads = params.threads > 0 ? params.threads : omp_get_num_procs();
-  out.clusters.resize(clusters.size());
-  // Compact clusters and convexity segments first; a merged cluster whole only when none of
-  // its segments was accepted (searching 100k points of four objects costs seconds).
-  auto judge = [&](const std::vector<int>& which) {
-    const int m = static_cast<int>(which.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (m > 1)
-    for (int j = 0; j < m; ++j) {
-      const auto k = static_cast<std::size_t>(which[static_cast<std::size_t>(j)]);
-      out.clusters[k] = judgeCluster(view, image, clusters[k], model, params, m == 1 ? threads : 1,
-                                     expected, single[k], axes ? &*axes : nullptr);
-    }
-  };
-  std::vector<int> first, second;
-  for (std::size_t k = 0; k < clusters.size(); ++k) {
-    const bool has_segments =
-        std::find(parents.begin(), parents.end(), static_cast<int>(k)) != parents.end();
-    (has_segments ? second : first).push_back(static_cast<int>(k));
-  }
-  judge(first);
-  std::vector<int> retry;
-  for (int k : second) {
-    bool segment_accepted = false;
-    for (std::size_t j = 0; j < clusters.size(); ++j)
-      segment_accepted = segment_accepted || (parents[j] == k && out.clusters[j].accepted);
-    if (segment_accepted) {
-      out.clusters[static_cast<std::size_t>(k)].indices = clusters[static_cast<std::size_t>(k)];
-      out.clusters[static_cast<std::size_t>(k)].reason = "not searched: a segment was accepted";
-    } else
-      retry.push_back(k);
-  }
-  judge(retry);
-  // More instances: what an accepted pose leaves of its cluster is searched again, as a
-  // cluster of its own (two touching copies of the object share one Euclidean cluster); when
-  // that finds one, the first is searched again without the second's points (its pose was
-  // pulled by them). rankInstances keeps the better of a cluster and its refit.
-  std::vector<bool> expanded(clusters.size(), false);
-  auto addCandidate = [&](pcl::PointIndices points, std::size_t parent, bool expand) {
-    if (points.indices.size() < params.segmentation.cluster.min_size)
-      return -1;
-    clusters.push_back(std::move(points));
-    parents.push_back(static_cast<int>(parent));
-    single.push_back(true);
-    expanded.push_back(expand);
-    return static_cast<int>(clusters.size()) - 1;
-  };
-  auto judgeAdded = [&](const std::vector<int>& added) {
-    out.clusters.resize(clusters.size());
-    judge(added);
-  };
-  // With one instance asked for, one round when nothing was accepted: a pose pulled between
-  // two touching objects is rejected, and each of them alone may be found.
-  const bool none_accepted = std::none_of(out.clusters.begin(), out.clusters.end(),
-                                          [](const ClusterLocalization& c) { return c.accepted; });
-  const int rounds = std::max(params.max_instances, none_accepted ? 2 : 1);
-  for (int round = 1; round < rounds; ++round) {
-    std::vector<int> rests;
-    const std::size_t judged = clusters.size();
-    for (std::size_t k = 0; k < judged; ++k)
-      if (!expanded[k] && holdsMore(out.clusters[k], clusters[k])) {
-        expanded[k] = true;
-        const int r =
-            addCandidate(unexplainedPoints(clusters[k], out.clusters[k].explained), k, false);
-        if (r >= 0)
-          rests.push_back(r);
-      }
-    if (rests.empty())
-      break;
-    judgeAdded(rests);
-    // A promising rest is refit too, not only an accepted one: the merged pose took some of
-    // its points, so its own pose may run into its neighbour. When its refit (the neighbour)
-    // is accepted, the rest is searched once more without the neighbour's points.
-    auto refitWithout = [&](int from) {
-      const auto parent = static_cast<std::size_t>(parents[static_cast<std::size_t>(from)]);
-      return addCandidate(unexplainedPoints(clusters[parent],
-                                            out.clusters[static_cast<std::size_t>(from)].explained),
-                          parent, true);
-    };
-    std::vector<int> refits, sources, again;
-    for (int r : rests)
-      if (isPromising(out.clusters[static_cast<std::size_t>(r)], params))
-        if (const int refit = refitWithout(r); refit >= 0) {
-          refits.push_back(refit);
-          sources.push_back(r);
-        }
-    judgeAdded(refits);
-    for (std::size_t j = 0; j < refits.size(); ++j)
-      if (out.clusters[static_cast<std::size_t>(refits[j])].accepted &&
-          !out.clusters[static_cast<std::size_t>(sources[j])].accepted)
-        if (const int rest_again = refitWithout(refits[j]); rest_again >= 0)
-          again.push_back(rest_again);
-    judgeAdded(again);
-  }
-  for (std::size_t k = 0; k < out.clusters.size(); ++k)
-    out.clusters[k].parent = parents[k];
+  HypothesisSearch search(view, image, model, params, std::move(clusters));
+  if (params.split_merged)
+    search.addConvexitySegments();
+  search.judgeSegmentsFirst();
+  search.searchFurtherInstances();
+  out.clusters = search.results();
 
   out.instances = rankInstances(out.clusters, params.max_instances, params.max_shared_points);
   out.best = out.instances.empty() ? -1 : out.instances.front();
@@ -700,6 +767,12 @@ Localization localizeInView(const SceneView& view, segmentation::TabletopSegment
 
 }  // namespace detail
 
+template Eigen::Isometry3f cameraPoseOf<pcl::PointXYZ>(const pcl::PointCloud<pcl::PointXYZ>&,
+                                                       const LocalizerParams&);
+template Eigen::Isometry3f cameraPoseOf<pcl::PointXYZRGB>(const pcl::PointCloud<pcl::PointXYZRGB>&,
+                                                          const LocalizerParams&);
+template Eigen::Isometry3f cameraPoseOf<pcl::PointXYZRGBA>(
+    const pcl::PointCloud<pcl::PointXYZRGBA>&, const LocalizerParams&);
 template Localization localizeObject<pcl::PointXYZ>(const pcl::PointCloud<pcl::PointXYZ>&,
                                                     const IcfModel&, const LocalizerParams&);
 template Localization localizeObject<pcl::PointXYZRGB>(const pcl::PointCloud<pcl::PointXYZRGB>&,

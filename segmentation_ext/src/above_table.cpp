@@ -5,11 +5,10 @@
 // Explicit instantiation for PCL_ICF_SEGMENTATION_POINT_TYPES (PCL's PCL_INSTANTIATE pattern).
 #include <pcl/icf/segmentation/above_table.h>
 
-#ifndef PCL_NO_PRECOMPILE
 #include <pcl/point_types.h>
-#include <pcl/icf/segmentation/impl/above_table.hpp>
 #include <pcl/impl/instantiate.hpp>
+
+#include "impl/above_table.hpp"
 
 PCL_INSTANTIATE(IcfTableHull, PCL_ICF_SEGMENTATION_POINT_TYPES)
 PCL_INSTANTIATE(IcfAboveTableIndices, PCL_ICF_SEGMENTATION_POINT_TYPES)
-#endif  // PCL_NO_PRECOMPILE

@@ -5,12 +5,11 @@
 // Explicit instantiation for PCL_ICF_SEGMENTATION_POINT_TYPES (PCL's PCL_INSTANTIATE pattern).
 #include <pcl/icf/segmentation/table_plane.h>
 
-#ifndef PCL_NO_PRECOMPILE
 #include <pcl/point_types.h>
-#include <pcl/icf/segmentation/impl/table_plane.hpp>
 #include <pcl/impl/instantiate.hpp>
+
+#include "impl/table_plane.hpp"
 
 PCL_INSTANTIATE(IcfFindTablePlane, PCL_ICF_SEGMENTATION_POINT_TYPES)
 PCL_INSTANTIATE(IcfPlaneInliers, PCL_ICF_SEGMENTATION_POINT_TYPES)
 PCL_INSTANTIATE(IcfRefineTablePlane, PCL_ICF_SEGMENTATION_POINT_TYPES)
-#endif  // PCL_NO_PRECOMPILE

@@ -5,10 +5,9 @@
 // Explicit instantiation for PCL_ICF_SEGMENTATION_POINT_TYPES (PCL's PCL_INSTANTIATE pattern).
 #include <pcl/icf/segmentation/tabletop_segmentation.h>
 
-#ifndef PCL_NO_PRECOMPILE
 #include <pcl/point_types.h>
-#include <pcl/icf/segmentation/impl/tabletop_segmentation.hpp>
 #include <pcl/impl/instantiate.hpp>
 
+#include "impl/tabletop_segmentation.hpp"
+
 PCL_INSTANTIATE(IcfSegmentTabletop, PCL_ICF_SEGMENTATION_POINT_TYPES)
-#endif  // PCL_NO_PRECOMPILE

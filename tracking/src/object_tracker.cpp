@@ -7,7 +7,7 @@
 #include <pcl/icf/usable_point.h>
 #include <pcl/point_types.h>
 #include <pcl_icf_internal/parameter_check.h>
-#include <pcl/icf/localization/impl/object_localizer.hpp>
+#include <pcl_icf_internal/scene_view.h>
 
 #include <omp.h>
 
@@ -34,7 +34,7 @@ double msSince(Clock::time_point start) {
 
 /** The localizer's view of the frame (points, colours, image size), moved into the camera's
  * frame. */
-struct ObjectTracker::FrameView : localization::detail::SceneView {
+struct ObjectTracker::FrameView : internal::SceneView {
   Eigen::Isometry3f camera_to_scene = Eigen::Isometry3f::Identity();
 };
 
@@ -74,7 +74,8 @@ ObjectTracker::ObjectTracker(const TrackerParams& params) : params_(params) {
 
 int ObjectTracker::addObject(IcfModel::ConstPtr model, const std::string& name) {
   if (!model)
-    throw std::invalid_argument("ObjectTracker::addObject: the model of \"" + name + "\" is null");
+    throw std::invalid_argument("[pcl::icf::tracking::ObjectTracker::addObject] the model of \"" +
+                                name + "\" is null");
   Object o;
   o.model = std::move(model);
   o.name = name;
@@ -84,7 +85,8 @@ int ObjectTracker::addObject(IcfModel::ConstPtr model, const std::string& name) 
 
 void ObjectTracker::setPose(int object, const Eigen::Isometry3f& model_to_camera) {
   if (object < 0 || object >= static_cast<int>(objects_.size()))
-    throw std::out_of_range("ObjectTracker::setPose: no object " + std::to_string(object));
+    throw std::out_of_range("[pcl::icf::tracking::ObjectTracker::setPose] no object " +
+                            std::to_string(object));
   validateRigidTransform(model_to_camera.matrix().cast<double>(),
                          "ObjectTracker::setPose: the pose");
   Object& o = objects_[static_cast<std::size_t>(object)];
@@ -271,7 +273,7 @@ TrackedFrame ObjectTracker::track(const pcl::PointCloud<PointT>& frame) {
   TrackedFrame result;
   result.index = frame_++;
   FrameView view;
-  static_cast<localization::detail::SceneView&>(view) = localization::detail::makeSceneView(frame);
+  static_cast<internal::SceneView&>(view) = internal::makeSceneView(frame);
   view.camera_to_scene = localization::cameraPoseOf(frame, params_.localizer);
   validateRigidTransform(view.camera_to_scene.matrix().cast<double>(), "camera pose");
   const Eigen::Isometry3f scene_to_camera = view.camera_to_scene.inverse(Eigen::Isometry);

@@ -214,6 +214,6 @@ Localization localizeObject(const pcl::PointCloud<PointT>& scene, const IcfModel
 }  // namespace icf
 }  // namespace pcl
 
-#ifdef PCL_NO_PRECOMPILE
-#include <pcl/icf/localization/impl/object_localizer.hpp>
-#endif
+// cameraPoseOf and localizeObject are compiled into pcl_icf_localization for
+// PCL_ICF_SEGMENTATION_POINT_TYPES (precompiled_point_types.h: other point types, how); their
+// bodies are in the library's sources (src/impl/object_localizer.hpp), not installed.

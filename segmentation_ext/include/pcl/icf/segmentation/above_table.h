@@ -104,6 +104,6 @@ AboveTable aboveTableIndices(const pcl::PointCloud<PointT>& cloud, const pcl::In
 }  // namespace icf
 }  // namespace pcl
 
-#ifdef PCL_NO_PRECOMPILE
-#include <pcl/icf/segmentation/impl/above_table.hpp>
-#endif
+// The templates above are compiled into pcl_icf_segmentation for
+// PCL_ICF_SEGMENTATION_POINT_TYPES (precompiled_point_types.h: other point types, how); their
+// bodies are in the library's sources (src/impl/above_table.hpp), not installed.

@@ -86,6 +86,6 @@ void sortClusters(std::vector<pcl::PointIndices>& clusters);
 }  // namespace icf
 }  // namespace pcl
 
-#ifdef PCL_NO_PRECOMPILE
-#include <pcl/icf/segmentation/impl/euclidean_clusters.hpp>
-#endif
+// The templates above are compiled into pcl_icf_segmentation for
+// PCL_ICF_SEGMENTATION_POINT_TYPES (precompiled_point_types.h: other point types, how); their
+// bodies are in the library's sources (src/impl/euclidean_clusters.hpp), not installed.

@@ -133,6 +133,6 @@ pcl::Indices planeInliers(const pcl::PointCloud<PointT>& cloud, const pcl::Indic
 }  // namespace icf
 }  // namespace pcl
 
-#ifdef PCL_NO_PRECOMPILE
-#include <pcl/icf/segmentation/impl/table_plane.hpp>
-#endif
+// The templates above are compiled into pcl_icf_segmentation for
+// PCL_ICF_SEGMENTATION_POINT_TYPES (precompiled_point_types.h: other point types, how); their
+// bodies are in the library's sources (src/impl/table_plane.hpp), not installed.

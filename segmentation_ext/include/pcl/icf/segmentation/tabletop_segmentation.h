@@ -136,6 +136,6 @@ TabletopSegmentation segmentTabletop(const pcl::PointCloud<PointT>& cloud,
 }  // namespace icf
 }  // namespace pcl
 
-#ifdef PCL_NO_PRECOMPILE
-#include <pcl/icf/segmentation/impl/tabletop_segmentation.hpp>
-#endif
+// The templates above are compiled into pcl_icf_segmentation for
+// PCL_ICF_SEGMENTATION_POINT_TYPES (precompiled_point_types.h: other point types, how); their
+// bodies are in the library's sources (src/impl/tabletop_segmentation.hpp), not installed.

@@ -51,6 +51,6 @@ pcl::PointCloud<PointT> voxelDownsample(const pcl::PointCloud<PointT>& cloud,
 }  // namespace icf
 }  // namespace pcl
 
-#ifdef PCL_NO_PRECOMPILE
-#include <pcl/icf/segmentation/impl/voxel_downsample.hpp>
-#endif
+// The templates above are compiled into pcl_icf_segmentation for
+// PCL_ICF_SEGMENTATION_POINT_TYPES (precompiled_point_types.h: other point types, how); their
+// bodies are in the library's sources (src/impl/voxel_downsample.hpp), not installed.

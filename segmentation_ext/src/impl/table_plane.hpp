@@ -4,11 +4,15 @@
  */
 #pragma once
 
+/** \file
+ * \brief Private to pcl_icf_segmentation's sources (not installed): the body of table_plane.h's
+ * templates, instantiated in src/table_plane.cpp for PCL_ICF_SEGMENTATION_POINT_TYPES. */
+
 #include <pcl/console/print.h>
 #include <pcl/icf/segmentation/table_plane.h>
 #include <pcl/sample_consensus/ransac.h>
 #include <pcl/sample_consensus/sac_model_plane.h>
-#include <pcl/icf/segmentation/impl/segmentation_common.hpp>
+#include "segmentation_common.hpp"
 
 #include <cmath>
 #include <memory>

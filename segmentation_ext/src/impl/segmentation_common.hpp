@@ -4,6 +4,10 @@
  */
 #pragma once
 
+/** \file
+ * \brief Private to pcl_icf_segmentation's sources (not installed): what the stages' template
+ * bodies share. The point-type-independent pieces are defined in src/segmentation_common.cpp. */
+
 #include <pcl/common/point_tests.h>
 #include <pcl/point_cloud.h>
 #include <pcl/types.h>
@@ -12,9 +16,8 @@
 #include <Eigen/Eigenvalues>
 
 #include <chrono>
+#include <cstddef>
 #include <memory>
-#include <sstream>
-#include <stdexcept>
 #include <string>
 
 namespace pcl {
@@ -29,18 +32,18 @@ typename pcl::PointCloud<PointT>::ConstPtr nonOwning(const pcl::PointCloud<Point
   return typename pcl::PointCloud<PointT>::ConstPtr(&cloud, [](const pcl::PointCloud<PointT>*) {});
 }
 
+/** Throws std::invalid_argument "[pcl::icf::<function>] index <index> is out of range for a
+ * cloud of <size> points". */
+[[noreturn]] void throwIndexOutOfRange(const char* function, pcl::index_t index, std::size_t size);
+
 /** Throws std::invalid_argument, naming \a function, when an index is outside \a cloud. */
 template <typename PointT>
 void requireIndicesInRange(const pcl::PointCloud<PointT>& cloud, const pcl::Indices& indices,
                            const char* function) {
   const auto n = static_cast<pcl::index_t>(cloud.size());
   for (const pcl::index_t i : indices) {
-    if (i < 0 || i >= n) {
-      std::ostringstream msg;
-      msg << "[pcl::icf::" << function << "] index " << i << " is out of range for a cloud of "
-          << cloud.size() << " points";
-      throw std::invalid_argument(msg.str());
-    }
+    if (i < 0 || i >= n)
+      throwIndexOutOfRange(function, i, cloud.size());
   }
 }
 
@@ -87,10 +90,7 @@ PointSpread pointSpread(const pcl::PointCloud<PointT>& cloud, const pcl::Indices
 /** True when the points span at least a plane: the middle eigenvalue of their covariance is not
  * negligible against the largest. Guards RANSAC and qhull against coincident or collinear input,
  * on which PCL logs errors and gives up. */
-inline bool spansPlane(const PointSpread& spread) {
-  const Eigen::Vector3d& ev = spread.eigenvalues;
-  return ev[2] > 0.0 && ev[1] > 1e-12 * ev[2];
-}
+bool spansPlane(const PointSpread& spread);
 
 template <typename PointT>
 bool spansPlane(const pcl::PointCloud<PointT>& cloud, const pcl::Indices& indices) {
@@ -115,12 +115,7 @@ bool fitPlane(const pcl::PointCloud<PointT>& cloud, const pcl::Indices& indices,
 
 /** \a coefficients with the sign that puts \a origin on the positive side (kept when the origin
  * is on the plane). */
-inline Eigen::Vector4f orientTowards(const Eigen::Vector4f& coefficients,
-                                     const Eigen::Vector3f& origin) {
-  return coefficients.head<3>().dot(origin) + coefficients[3] < 0.0f
-             ? Eigen::Vector4f(-coefficients)
-             : coefficients;
-}
+Eigen::Vector4f orientTowards(const Eigen::Vector4f& coefficients, const Eigen::Vector3f& origin);
 
 /** Milliseconds elapsed since construction or the last lap(). */
 class Stopwatch {

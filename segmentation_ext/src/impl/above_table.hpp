@@ -4,11 +4,15 @@
  */
 #pragma once
 
+/** \file
+ * \brief Private to pcl_icf_segmentation's sources (not installed): the body of above_table.h's
+ * templates, instantiated in src/above_table.cpp for PCL_ICF_SEGMENTATION_POINT_TYPES. */
+
 #include <pcl/PointIndices.h>
 #include <pcl/icf/segmentation/above_table.h>
 #include <pcl/segmentation/extract_polygonal_prism_data.h>
 #include <pcl/surface/convex_hull.h>
-#include <pcl/icf/segmentation/impl/segmentation_common.hpp>
+#include "segmentation_common.hpp"
 
 #include <memory>
 #include <numeric>

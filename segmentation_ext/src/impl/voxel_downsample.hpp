@@ -4,12 +4,17 @@
  */
 #pragma once
 
+/** \file
+ * \brief Private to pcl_icf_segmentation's sources (not installed): the body of
+ * voxel_downsample.h's templates, instantiated in src/voxel_downsample.cpp for
+ * PCL_ICF_SEGMENTATION_POINT_TYPES. */
+
 #include <pcl/common/common.h>
 #include <pcl/common/io.h>
 #include <pcl/console/print.h>
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/icf/segmentation/voxel_downsample.h>
-#include <pcl/icf/segmentation/impl/segmentation_common.hpp>
+#include "segmentation_common.hpp"
 
 #include <cmath>
 #include <cstdint>

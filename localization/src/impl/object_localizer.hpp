@@ -4,26 +4,33 @@
  */
 #pragma once
 
+/** \file
+ * \brief Private to pcl_icf_localization's sources (not installed): the body of
+ * object_localizer.h's templates (a thin shell that moves the scene into the camera's frame)
+ * and the non-template core they call, defined in src/object_localizer.cpp, which instantiates
+ * them for PCL_ICF_SEGMENTATION_POINT_TYPES. */
+
 #include <pcl/common/transforms.h>
 #include <pcl/icf/localization/object_localizer.h>
 #include <pcl/icf/segmentation/tabletop_segmentation.h>
-#include <pcl/type_traits.h>
+#include <pcl_icf_internal/scene_view.h>
 
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace pcl {
 namespace icf {
 namespace localization {
 namespace detail {
 
-/** What the non-template core needs of the scene, in the camera's frame. */
-struct SceneView {
-  std::vector<Eigen::Vector3f> points;   ///< every point (NaN where the cloud has NaN)
-  std::vector<Eigen::Vector3f> colours;  ///< [0, 1] RGB per point, empty without colour
-  int width = 0, height = 0;             ///< an organized cloud's image size; 0 when unorganized
-};
+using internal::makeSceneView;
+using internal::SceneView;
 
+/** Everything localizeObject does after the segmentation, on a scene in the camera's frame:
+ * the hypotheses (clusters, convexity segments, the rests accepted poses leave), each judged
+ * by the depth verification, and the ranking. */
 Localization localizeInView(const SceneView& view, segmentation::TabletopSegmentation segmentation,
                             const IcfModel& model, const LocalizerParams& params,
                             double segmentation_ms);
@@ -35,24 +42,6 @@ double shareInFront(const std::vector<Eigen::Vector3f>& points);
 /** Maps a localization made in the camera's frame into the scene's: poses, registration
  * transforms and the table plane. Indices are unchanged. */
 void toSceneFrame(Localization& loc, const Eigen::Isometry3f& camera_to_scene);
-
-template <typename PointT>
-SceneView makeSceneView(const pcl::PointCloud<PointT>& scene) {
-  SceneView view;
-  view.points.reserve(scene.size());
-  for (const auto& p : scene)
-    view.points.emplace_back(p.x, p.y, p.z);
-  if constexpr (pcl::traits::has_color_v<PointT>) {
-    view.colours.reserve(scene.size());
-    for (const auto& p : scene)
-      view.colours.emplace_back(p.r / 255.f, p.g / 255.f, p.b / 255.f);
-  }
-  if (scene.isOrganized() && scene.height > 1) {
-    view.width = static_cast<int>(scene.width);
-    view.height = static_cast<int>(scene.height);
-  }
-  return view;
-}
 
 /** Everything localizeObject does, on a cloud in the camera's frame (camera at the origin,
  * looking along +z). */
@@ -91,7 +80,8 @@ Eigen::Isometry3f cameraPoseOf(const pcl::PointCloud<PointT>& scene,
   const Eigen::Quaternionf& q = scene.sensor_orientation_;
   if (!(q.coeffs().allFinite() && std::abs(q.norm() - 1.f) < 1e-3f))
     throw std::invalid_argument(
-        "the cloud's sensor_orientation_ (VIEWPOINT) is not a unit quaternion");
+        "[pcl::icf::localization::cameraPoseOf] the cloud's "
+        "sensor_orientation_ (VIEWPOINT) is not a unit quaternion");
   pose.linear() = q.normalized().toRotationMatrix();
   return pose;
 }

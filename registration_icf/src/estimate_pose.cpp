@@ -4,6 +4,7 @@
  */
 #include <pcl/icf/estimate_pose.h>
 #include <pcl_icf_internal/parameter_check.h>
+#include <pcl_icf_internal/search_anchors.h>
 
 #include <omp.h>
 
@@ -67,8 +68,8 @@ std::string toString(IcfStatus status) {
   return "unknown";
 }
 
-void ThesisObjectiveParams::validate() const {
-  const internal::ParameterCheck fail("ThesisObjectiveParams");
+void ObjectiveParams::validate() const {
+  const internal::ParameterCheck fail("ObjectiveParams");
   if (!(near_distance > 0.f) || !std::isfinite(near_distance))
     fail("near_distance", near_distance, "must be positive and finite");
   if (!(far_factor >= 1.f) || !std::isfinite(far_factor))
@@ -120,7 +121,7 @@ bool isAcceptable(const PoseQuality& q, const AcceptanceParams& p) {
   if (q.inliers < p.min_inliers || q.surface_coverage < p.min_surface_coverage ||
       q.rmse > p.max_rmse || q.seen_through > p.max_seen_through)
     return false;
-  return !p.thesis_gate || q.far_points <= p.gate_max_far_points;
+  return !p.far_point_gate || q.far_points <= p.gate_max_far_points;
 }
 
 namespace {
@@ -162,9 +163,9 @@ PoseHypothesis fastSearch(const IcfModel& model, const std::vector<Eigen::Vector
   for (int k = 0; k < static_cast<int>(n); ++k) {
     const auto i = static_cast<std::size_t>(k);
     const std::vector<Eigen::Vector3f> subset =
-        randomSubset(pointsNearModel(model, points, hypotheses[i].scene_to_model,
-                                     params.refinement.initial_inlier_distance),
-                     params.candidate_points, params.seed + 1);
+        internal::randomSubset(pointsNearModel(model, points, hypotheses[i].scene_to_model,
+                                               params.refinement.initial_inlier_distance),
+                               params.candidate_points, params.seed + 1);
     refined[i].scene_to_model =
         refinePose(model.index(), subset, hypotheses[i].scene_to_model, params.refinement, 1)
             .scene_to_model;
@@ -251,6 +252,153 @@ double seenThrough(const IcfModel& model, const Eigen::Isometry3f& scene_to_mode
   return conflicts > 0.0 ? conflicts / (e.supported + conflicts) : 0.0;
 }
 
+/** What refining one start gave: the refinement, the quality measured at its end and the
+ * decision. */
+struct Outcome {
+  RefinementResult refined;
+  PoseQuality quality;
+  bool accepted = false;
+  bool skipped = false;  ///< worth_refining said no: the start as it is
+};
+
+/** The points of \a scene_points estimatePose works on (isUsablePoint), in their order. */
+std::vector<Eigen::Vector3f> usablePoints(const std::vector<Eigen::Vector3f>& scene_points) {
+  std::vector<Eigen::Vector3f> points;
+  points.reserve(scene_points.size());
+  for (const auto& p : scene_points)
+    if (isUsablePoint(p))
+      points.push_back(p);
+  return points;
+}
+
+/** One estimatePose call on its usable points: where it starts (a guess, a search, SAC) and
+ * how every start is refined, measured and judged, the same way for each. */
+class PoseEstimation {
+ public:
+  PoseEstimation(const IcfModel& model, const std::vector<Eigen::Vector3f>& points,
+                 const Eigen::Vector3f& camera, const IcfParams& params,
+                 const Eigen::Isometry3f* guess, const StartCheck& worth_refining,
+                 const DepthImage* camera_image)
+      : model_(model),
+        points_(points),
+        camera_(camera),
+        params_(params),
+        guess_(guess),
+        worth_refining_(worth_refining),
+        threads_(params.threads > 0 ? params.threads : omp_get_num_procs()) {
+    // The seen-through check's image: the caller's, else the cluster's own.
+    if (params.acceptance.max_seen_through < 1.0) {
+      if (!camera_image) {
+        own_image_ = clusterDepthImage(points, camera);
+        scene_to_camera_ = own_image_->scene_to_camera;
+      }
+      check_image_ = camera_image ? camera_image : &own_image_->image;
+    }
+  }
+  PoseEstimation(const PoseEstimation&) = delete;  // check_image_ may point into own_image_
+  PoseEstimation& operator=(const PoseEstimation&) = delete;
+
+  /** The first start: the guess, SAC's (policy Always) or the search's (params.strategy);
+   * IcfResult::method, search_score and the SAC fields filled in. */
+  Eigen::Isometry3f firstStart(IcfResult& result) const {
+    if (guess_) {
+      result.method = "guess+icf";
+      return *guess_;
+    }
+    if (params_.fallback == FallbackPolicy::Always) {
+      result.method = "sac+icf";
+      return sacStart(result);
+    }
+    const PoseHypothesis h = params_.strategy == SearchStrategy::Thesis
+                                 ? thesisSearch(model_, points_, params_.thesis, params_.objective,
+                                                params_.seed, threads_)
+                                 : fastSearch(model_, points_, camera_, params_, threads_);
+    result.search_score = h.score;
+    result.method = params_.strategy == SearchStrategy::Thesis ? "thesis+icf" : "fast+icf";
+    return h.scene_to_model;
+  }
+
+  /** Refine from \a from (ICP's one stage with a guess, else coarse to fine), measure with
+   * exact distances and the seen-through check, accept or reject. A start worth_refining
+   * refuses is returned as it is, skipped. */
+  Outcome refineAndMeasure(const Eigen::Isometry3f& from, const IterationCallback& cb) const {
+    Outcome o;
+    if (!guess_ && worth_refining_ && !worth_refining_(from)) {
+      o.refined.scene_to_model = from;
+      o.skipped = true;
+      return o;
+    }
+    o.refined =
+        guess_ ? refinePose(model_.index(), points_, from, params_.refinement, threads_, cb)
+               : refineCoarseToFine(model_.index(), points_, from, params_.refinement,
+                                    params_.coarse_points, params_.fine_iterations, threads_, cb);
+    o.quality =
+        measurePoseQuality(model_, points_, o.refined.scene_to_model, camera_,
+                           params_.acceptance.inlier_distance, params_.acceptance.gate_distance,
+                           params_.objective, params_.acceptance.visibility, threads_);
+    if (check_image_)
+      o.quality.seen_through = seenThrough(model_, o.refined.scene_to_model, *check_image_,
+                                           scene_to_camera_, params_.acceptance.depth);
+    o.accepted = isAcceptable(o.quality, params_.acceptance);
+    return o;
+  }
+
+  /** The Auto fallback after a rejected search pose: SAC's start, when SAC finds one, refined
+   * and measured; it replaces \a best when accepted or when it covers more of the model's
+   * visible surface (accepted beats rejected; between two rejected poses, more coverage). */
+  void tryFallback(Outcome& best, IcfResult& result, const IterationCallback& cb) const {
+    const Eigen::Isometry3f sac_pose = sacStart(result);
+    if (result.sac_status != SacStatus::Found)
+      return;
+    Outcome fallback = refineAndMeasure(sac_pose, cb);
+    if (fallback.accepted || fallback.quality.surface_coverage > best.quality.surface_coverage) {
+      best = fallback;
+      result.method = "sac+icf";
+    }
+  }
+
+ private:
+  /** The SampleConsensus start: SAC's transform, or the centroid start (the model's surface
+   * centroid on the points' centroid, no rotation) when it finds nothing. */
+  Eigen::Isometry3f sacStart(IcfResult& result) const {
+    const SacResult sac = sampleConsensusAlign(model_, points_, camera_, params_.sac, threads_);
+    result.fallback_ran = true;
+    result.sac_status = sac.status;
+    if (sac.found())
+      return Eigen::Isometry3f(sac.scene_to_model);
+    Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+    for (const auto& p : points_)
+      centroid += p;
+    centroid /= static_cast<float>(points_.size());
+    Eigen::Isometry3f start = Eigen::Isometry3f::Identity();
+    start.translation() = model_.mesh().surfaceCentroid() - centroid;
+    return start;
+  }
+
+  const IcfModel& model_;
+  const std::vector<Eigen::Vector3f>& points_;
+  const Eigen::Vector3f& camera_;
+  const IcfParams& params_;
+  const Eigen::Isometry3f* guess_;
+  const StartCheck& worth_refining_;
+  const int threads_;
+  std::optional<CheckImage> own_image_;
+  const DepthImage* check_image_ = nullptr;
+  Eigen::Isometry3f scene_to_camera_ = Eigen::Isometry3f::Identity();
+};
+
+/** The chosen outcome into \a result: the pose both ways, the refinement's facts, the quality
+ * and the status. */
+void report(const Outcome& best, IcfResult& result) {
+  result.refinement_skipped = best.skipped;
+  result.refinement_iterations = best.refined.iterations;
+  result.refinement_converged = best.refined.converged;
+  result.scene_to_model = best.refined.scene_to_model.matrix();
+  result.object_pose = best.refined.scene_to_model.inverse().matrix();
+  result.quality = best.quality;
+  result.status = best.accepted ? IcfStatus::Accepted : IcfStatus::Rejected;
+}
+
 }  // namespace
 
 IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
@@ -260,11 +408,7 @@ IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>
   params.validate();
   const auto start = std::chrono::steady_clock::now();
   IcfResult result;
-  std::vector<Eigen::Vector3f> points;
-  points.reserve(scene_points.size());
-  for (const auto& p : scene_points)
-    if (isUsablePoint(p))
-      points.push_back(p);
+  const std::vector<Eigen::Vector3f> points = usablePoints(scene_points);
   result.points = points.size();
   if (points.size() < std::max<std::size_t>(params.acceptance.min_inliers, 6)) {
     result.status = IcfStatus::TooFewPoints;
@@ -272,106 +416,14 @@ IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>
   }
   if (guess && !guess->matrix().allFinite())
     throw std::invalid_argument("estimatePose: the initial guess has a non-finite entry");
-  const int threads = params.threads > 0 ? params.threads : omp_get_num_procs();
-  // The seen-through check's image: the caller's, else the cluster's own.
-  std::optional<CheckImage> own_image;
-  const DepthImage* check_image = nullptr;
-  Eigen::Isometry3f scene_to_camera = Eigen::Isometry3f::Identity();
-  if (params.acceptance.max_seen_through < 1.0) {
-    if (!camera_image) {
-      own_image = clusterDepthImage(points, camera);
-      scene_to_camera = own_image->scene_to_camera;
-    }
-    check_image = camera_image ? camera_image : &own_image->image;
-  }
-
-  // Refine from a start, measure with exact distances, accept or reject.
-  struct Outcome {
-    RefinementResult refined;
-    PoseQuality quality;
-    bool accepted = false;
-    bool skipped = false;  ///< worth_refining said no: the start as it is
-  };
-  auto refineAndMeasure = [&](const Eigen::Isometry3f& from, const IterationCallback& cb) {
-    Outcome o;
-    if (!guess && worth_refining && !worth_refining(from)) {
-      o.refined.scene_to_model = from;
-      o.skipped = true;
-      return o;
-    }
-    o.refined = guess
-                    ? refinePose(model.index(), points, from, params.refinement, threads, cb)
-                    : refineCoarseToFine(model.index(), points, from, params.refinement,
-                                         params.coarse_points, params.fine_iterations, threads, cb);
-    o.quality = measurePoseQuality(
-        model, points, o.refined.scene_to_model, camera, params.acceptance.inlier_distance,
-        params.acceptance.gate_distance, params.objective, params.acceptance.visibility, threads);
-    if (check_image)
-      o.quality.seen_through = seenThrough(model, o.refined.scene_to_model, *check_image,
-                                           scene_to_camera, params.acceptance.depth);
-    o.accepted = isAcceptable(o.quality, params.acceptance);
-    return o;
-  };
-  // The SampleConsensus start: SAC's transform, or the centroid start when it finds nothing.
-  auto sacStart = [&]() {
-    const SacResult sac = sampleConsensusAlign(model, points, camera, params.sac, threads);
-    result.fallback_ran = true;
-    result.sac_status = sac.status;
-    if (sac.found())
-      return Eigen::Isometry3f(sac.scene_to_model);
-    Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
-    for (const auto& p : points)
-      centroid += p;
-    centroid /= static_cast<float>(points.size());
-    Eigen::Isometry3f start = Eigen::Isometry3f::Identity();
-    start.translation() = model.mesh().surfaceCentroid() - centroid;
-    return start;
-  };
-
-  const bool sac_only = !guess && params.fallback == FallbackPolicy::Always;
-  Eigen::Isometry3f start_pose = Eigen::Isometry3f::Identity();
-  if (guess) {
-    start_pose = *guess;
-    result.method = "guess+icf";
-  } else if (sac_only) {
-    start_pose = sacStart();
-    result.method = "sac+icf";
-  } else if (params.strategy == SearchStrategy::Thesis) {
-    const PoseHypothesis h =
-        thesisSearch(model, points, params.thesis, params.objective, params.seed, threads);
-    start_pose = h.scene_to_model;
-    result.search_score = h.score;
-    result.method = "thesis+icf";
-  } else {
-    const PoseHypothesis h = fastSearch(model, points, camera, params, threads);
-    start_pose = h.scene_to_model;
-    result.search_score = h.score;
-    result.method = "fast+icf";
-  }
-
-  Outcome best = refineAndMeasure(start_pose, callback);
+  const PoseEstimation estimation(model, points, camera, params, guess, worth_refining,
+                                  camera_image);
+  Outcome best = estimation.refineAndMeasure(estimation.firstStart(result), callback);
   // A start the caller refused (worth_refining) ends the search here: the caller's check says
   // the cluster holds nothing it could accept near the search's best.
-  if (!guess && !sac_only && !best.accepted && !best.skipped &&
-      params.fallback == FallbackPolicy::Auto) {
-    const Eigen::Isometry3f sac_pose = sacStart();
-    if (result.sac_status == SacStatus::Found) {
-      Outcome fallback = refineAndMeasure(sac_pose, callback);
-      // Accepted beats rejected; between two rejected poses, more of the visible surface.
-      if (fallback.accepted || fallback.quality.surface_coverage > best.quality.surface_coverage) {
-        best = fallback;
-        result.method = "sac+icf";
-      }
-    }
-  }
-
-  result.refinement_skipped = best.skipped;
-  result.refinement_iterations = best.refined.iterations;
-  result.refinement_converged = best.refined.converged;
-  result.scene_to_model = best.refined.scene_to_model.matrix();
-  result.object_pose = best.refined.scene_to_model.inverse().matrix();
-  result.quality = best.quality;
-  result.status = best.accepted ? IcfStatus::Accepted : IcfStatus::Rejected;
+  if (!guess && params.fallback == FallbackPolicy::Auto && !best.accepted && !best.skipped)
+    estimation.tryFallback(best, result, callback);
+  report(best, result);
   result.time_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return result;

@@ -200,6 +200,77 @@ std::vector<Eigen::Vector3f> readVertices(const pcl::PolygonMesh& mesh, float sc
   return vertices;
 }
 
+/** The diagonal of the bounding box of the finite vertices the faces use: the scale of the area
+ * tolerance. In double, and without unreferenced vertices: one stray vertex at 1e30 made the
+ * float square infinite and every face "degenerate". 0 when no face uses a finite vertex. */
+double usedBoundsDiagonal(const pcl::PolygonMesh& mesh,
+                          const std::vector<Eigen::Vector3f>& vertices) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::max());
+  Eigen::Vector3d hi = -lo;
+  for (const auto& polygon : mesh.polygons)
+    for (const auto i : polygon.vertices)
+      if (i >= 0 && static_cast<std::size_t>(i) < vertices.size() &&
+          vertices[static_cast<std::size_t>(i)].allFinite()) {
+        lo = lo.cwiseMin(vertices[static_cast<std::size_t>(i)].cast<double>());
+        hi = hi.cwiseMax(vertices[static_cast<std::size_t>(i)].cast<double>());
+      }
+  return (hi.array() >= lo.array()).all() ? (hi - lo).norm() : 0.0;
+}
+
+/** The polygon's vertex indices; \throws InvalidMeshError for one outside the mesh. */
+std::vector<std::uint32_t> polygonIndices(const pcl::Vertices& polygon, std::size_t vertex_count) {
+  std::vector<std::uint32_t> raw;
+  raw.reserve(polygon.vertices.size());
+  for (const auto i : polygon.vertices) {
+    if (i < 0 || static_cast<std::size_t>(i) >= vertex_count) {
+      std::ostringstream msg;
+      msg << "mesh face refers to vertex " << i << " but the mesh has only " << vertex_count
+          << " vertices";
+      throw InvalidMeshError(msg.str());
+    }
+    raw.push_back(static_cast<std::uint32_t>(i));
+  }
+  return raw;
+}
+
+/** Why a polygon (its distinct loop) is dropped before its area is known, or Usable. */
+enum class LoopCheck { Usable, NonFinite, Degenerate, Duplicate };
+
+/** Checks \a loop in order: a non-finite vertex, fewer than 3 distinct vertices (or a vertex
+ * repeated), the same vertex set as an earlier polygon (\a seen, which gains it). */
+LoopCheck checkLoop(const std::vector<std::uint32_t>& loop,
+                    const std::vector<Eigen::Vector3f>& vertices,
+                    std::set<std::vector<std::uint32_t>>& seen) {
+  if (std::any_of(loop.begin(), loop.end(),
+                  [&](std::uint32_t i) { return !vertices[i].allFinite(); }))
+    return LoopCheck::NonFinite;
+  std::vector<std::uint32_t> key = loop;
+  std::sort(key.begin(), key.end());
+  if (loop.size() < 3 || std::adjacent_find(key.begin(), key.end()) != key.end())
+    return LoopCheck::Degenerate;
+  if (!seen.insert(key).second)
+    return LoopCheck::Duplicate;
+  return LoopCheck::Usable;
+}
+
+/** The report's count of polygons dropped for \a why (not Usable). */
+std::size_t& droppedCount(FaceMeshReport& report, LoopCheck why) {
+  if (why == LoopCheck::NonFinite)
+    return report.nonfinite_dropped;
+  return why == LoopCheck::Degenerate ? report.degenerate_dropped : report.duplicate_dropped;
+}
+
+/** \throws InvalidMeshError saying why no face was kept. */
+[[noreturn]] void throwNoUsableFace(const FaceMeshReport& report, float area_tolerance,
+                                    double diagonal) {
+  std::ostringstream msg;
+  msg << "mesh has no usable face: " << report.degenerate_dropped << " degenerate, "
+      << report.duplicate_dropped << " duplicate, " << report.nonfinite_dropped
+      << " with non-finite vertices out of " << report.input_polygons << " (degenerate: area below "
+      << area_tolerance << " x the squared bounding-box diagonal, " << diagonal << ")";
+  throw InvalidMeshError(msg.str());
+}
+
 }  // namespace
 
 std::size_t FaceMesh::countFacesWithVertices(std::uint32_t count) const {
@@ -232,50 +303,16 @@ FaceMesh FaceMesh::build(const pcl::PolygonMesh& mesh, const FaceMeshOptions& op
   if (mesh.polygons.empty())
     throw InvalidMeshError("mesh has no faces (" + std::to_string(out.vertices_.size()) +
                            " vertices, 0 polygons): a point cloud is not a model");
-
-  // Bounds of the finite vertices the faces use give the scale of the area tolerance; in
-  // double, and without unreferenced vertices: one stray vertex at 1e30 made the float square
-  // infinite and every face "degenerate".
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::max());
-  Eigen::Vector3d hi = -lo;
-  for (const auto& polygon : mesh.polygons)
-    for (const auto i : polygon.vertices)
-      if (i >= 0 && static_cast<std::size_t>(i) < out.vertices_.size() &&
-          out.vertices_[static_cast<std::size_t>(i)].allFinite()) {
-        lo = lo.cwiseMin(out.vertices_[static_cast<std::size_t>(i)].cast<double>());
-        hi = hi.cwiseMax(out.vertices_[static_cast<std::size_t>(i)].cast<double>());
-      }
-  const double diagonal = (hi.array() >= lo.array()).all() ? (hi - lo).norm() : 0.0;
+  const double diagonal = usedBoundsDiagonal(mesh, out.vertices_);
   const double min_area = options.area_tolerance * diagonal * diagonal;
 
   std::set<std::vector<std::uint32_t>> seen;
-  const auto vertex_count = out.vertices_.size();
   for (const auto& polygon : mesh.polygons) {
-    std::vector<std::uint32_t> raw;
-    raw.reserve(polygon.vertices.size());
-    for (const auto i : polygon.vertices) {
-      if (i < 0 || static_cast<std::size_t>(i) >= vertex_count) {
-        std::ostringstream msg;
-        msg << "mesh face refers to vertex " << i << " but the mesh has only " << vertex_count
-            << " vertices";
-        throw InvalidMeshError(msg.str());
-      }
-      raw.push_back(static_cast<std::uint32_t>(i));
-    }
-    const std::vector<std::uint32_t> loop = distinctLoop(raw);
-    if (std::any_of(loop.begin(), loop.end(),
-                    [&](std::uint32_t i) { return !out.vertices_[i].allFinite(); })) {
-      ++out.report_.nonfinite_dropped;
-      continue;
-    }
-    std::vector<std::uint32_t> key = loop;
-    std::sort(key.begin(), key.end());
-    if (loop.size() < 3 || std::adjacent_find(key.begin(), key.end()) != key.end()) {
-      ++out.report_.degenerate_dropped;
-      continue;
-    }
-    if (!seen.insert(key).second) {
-      ++out.report_.duplicate_dropped;
+    const std::vector<std::uint32_t> loop =
+        distinctLoop(polygonIndices(polygon, out.vertices_.size()));
+    const LoopCheck check = checkLoop(loop, out.vertices_, seen);
+    if (check != LoopCheck::Usable) {
+      ++droppedCount(out.report_, check);
       continue;
     }
     const Eigen::Vector3d newell = newellNormal(out.vertices_, loop);
@@ -299,15 +336,8 @@ FaceMesh FaceMesh::build(const pcl::PolygonMesh& mesh, const FaceMeshOptions& op
         out.addFace(tri, n.normalized().cast<float>(), a);
     }
   }
-  if (out.faces_.empty()) {
-    std::ostringstream msg;
-    msg << "mesh has no usable face: " << out.report_.degenerate_dropped << " degenerate, "
-        << out.report_.duplicate_dropped << " duplicate, " << out.report_.nonfinite_dropped
-        << " with non-finite vertices out of " << out.report_.input_polygons
-        << " (degenerate: area below " << options.area_tolerance
-        << " x the squared bounding-box diagonal, " << diagonal << ")";
-    throw InvalidMeshError(msg.str());
-  }
+  if (out.faces_.empty())
+    throwNoUsableFace(out.report_, options.area_tolerance, diagonal);
   out.finish();
   return out;
 }

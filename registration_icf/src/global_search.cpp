@@ -6,6 +6,7 @@
 #include <pcl/icf/objective.h>
 #include <pcl/icf/rotation_sampling.h>
 #include <pcl_icf_internal/parameter_check.h>
+#include <pcl_icf_internal/search_anchors.h>
 
 #include <algorithm>
 #include <array>
@@ -54,6 +55,8 @@ void GlobalSearchParams::validate() const {
     fail("distinct_*", -1, "must be >= 0");
   field_refinement.validate();
 }
+
+namespace internal {
 
 std::vector<Eigen::Vector3f> randomSubset(const std::vector<Eigen::Vector3f>& points,
                                           std::size_t count, std::uint64_t seed) {
@@ -124,12 +127,6 @@ float clusterSpread(const std::vector<Eigen::Vector3f>& points, const Eigen::Vec
   return spread[q];
 }
 
-bool spreadsWiderThanModel(const std::vector<Eigen::Vector3f>& points, float model_radius,
-                           const GlobalSearchParams& params) {
-  return !points.empty() &&
-         clusterSpread(points, robustCentroid(points)) > params.merged_cluster_ratio * model_radius;
-}
-
 std::vector<SearchAnchor> translationAnchors(const std::vector<Eigen::Vector3f>& points,
                                              float model_radius, const GlobalSearchParams& params,
                                              std::uint64_t seed) {
@@ -185,7 +182,18 @@ std::vector<SearchAnchor> translationAnchors(const std::vector<Eigen::Vector3f>&
   return anchors;
 }
 
+}  // namespace internal
+
+bool spreadsWiderThanModel(const std::vector<Eigen::Vector3f>& points, float model_radius,
+                           const GlobalSearchParams& params) {
+  return !points.empty() && internal::clusterSpread(points, internal::robustCentroid(points)) >
+                                params.merged_cluster_ratio * model_radius;
+}
+
 namespace {
+
+using internal::fieldKernelScore;
+using internal::SearchAnchor;
 
 /** Model-frame centroid of the surface the camera sees along \a view (model frame), weighted
  * by projected area; the surface centroid when nothing faces the camera. */
@@ -244,24 +252,15 @@ void scoreTheBestOnTheirSubsets(std::vector<PoseHypothesis>& coarse,
   }
 }
 
-}  // namespace
-
-std::vector<PoseHypothesis> globalSearch(const IcfModel& model,
-                                         const std::vector<Eigen::Vector3f>& scene_points,
-                                         const Eigen::Vector3f& camera,
-                                         const GlobalSearchParams& params, std::uint64_t seed,
-                                         int threads) {
-  params.validate();
-  if (scene_points.empty())
-    return {};
-  const std::vector<SearchAnchor> anchors =
-      translationAnchors(scene_points, model.radius(), params, seed);
-  const Eigen::Vector3f centroid = robustCentroid(scene_points);
-  Eigen::Vector3f view = centroid - camera;
-  view = view.norm() > 1e-9f ? Eigen::Vector3f(view.normalized()) : Eigen::Vector3f::UnitZ();
-
-  // Coarse pass: every rotation at every anchor, placed by its visible centroid, scored on
-  // the anchor's points through the field.
+/** The coarse pass: every rotation of a uniform set at every anchor, the model placed by the
+ * centroid of its surface visible along \a view (scene frame), scored through the field on the
+ * anchor's points (with the cascade: first on the prescreen points, then the best on all of
+ * them). \a anchor_of receives each hypothesis's anchor. */
+std::vector<PoseHypothesis> coarsePass(const IcfModel& model,
+                                       const std::vector<SearchAnchor>& anchors,
+                                       const Eigen::Vector3f& view,
+                                       const GlobalSearchParams& params, std::uint64_t seed,
+                                       int threads, std::vector<std::size_t>& anchor_of) {
   const std::size_t rotation_count =
       anchors.size() > 1 ? std::max<std::size_t>(1, params.rotations / 2) : params.rotations;
   const std::vector<Eigen::Quaternionf> rotations =
@@ -280,7 +279,7 @@ std::vector<PoseHypothesis> globalSearch(const IcfModel& model,
                              a.subset.begin() + static_cast<std::ptrdiff_t>(std::min(
                                                     params.prescreen_points, a.subset.size())));
   std::vector<PoseHypothesis> coarse(rotations.size() * anchors.size());
-  std::vector<std::size_t> anchor_of(coarse.size());
+  anchor_of.assign(coarse.size(), 0);
   const int count = static_cast<int>(coarse.size());
 #pragma omp parallel for schedule(static) num_threads(std::max(1, threads))
   for (int k = 0; k < count; ++k) {
@@ -298,12 +297,20 @@ std::vector<PoseHypothesis> globalSearch(const IcfModel& model,
   }
   if (prescreened)
     scoreTheBestOnTheirSubsets(coarse, anchor_of, anchors, model, params, threads);
+  return coarse;
+}
+
+/** The best params.keep of \a coarse, best first (ties by index), each distinct from those kept
+ * before it; \a kept_anchor receives their anchors. */
+std::vector<PoseHypothesis> bestDistinct(const std::vector<PoseHypothesis>& coarse,
+                                         const std::vector<std::size_t>& anchor_of,
+                                         const GlobalSearchParams& params,
+                                         std::vector<std::size_t>& kept_anchor) {
   std::vector<std::size_t> order(coarse.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return coarse[a].score > coarse[b].score; });
   std::vector<PoseHypothesis> kept;
-  std::vector<std::size_t> kept_anchor;
   for (std::size_t i : order) {
     if (kept.size() >= params.keep)
       break;
@@ -312,8 +319,14 @@ std::vector<PoseHypothesis> globalSearch(const IcfModel& model,
       kept_anchor.push_back(anchor_of[i]);
     }
   }
+  return kept;
+}
 
-  // Fine pass: refine each kept hypothesis on the field, re-score with the fine kernel.
+/** The fine pass: each kept hypothesis refined on the field on its anchor's points and
+ * re-scored with the fine kernel; sorted best first. */
+void refineOnField(const IcfModel& model, const std::vector<SearchAnchor>& anchors,
+                   const std::vector<std::size_t>& kept_anchor, const GlobalSearchParams& params,
+                   int threads, std::vector<PoseHypothesis>& kept) {
   const Eigen::Vector3f pivot = model.mesh().surfaceCentroid();
   const double scale = std::max(1e-3f, model.radius());
   const int n = static_cast<int>(kept.size());
@@ -329,6 +342,28 @@ std::vector<PoseHypothesis> globalSearch(const IcfModel& model,
   std::stable_sort(kept.begin(), kept.end(), [](const PoseHypothesis& a, const PoseHypothesis& b) {
     return a.score > b.score;
   });
+}
+
+}  // namespace
+
+std::vector<PoseHypothesis> globalSearch(const IcfModel& model,
+                                         const std::vector<Eigen::Vector3f>& scene_points,
+                                         const Eigen::Vector3f& camera,
+                                         const GlobalSearchParams& params, std::uint64_t seed,
+                                         int threads) {
+  params.validate();
+  if (scene_points.empty())
+    return {};
+  const std::vector<SearchAnchor> anchors =
+      internal::translationAnchors(scene_points, model.radius(), params, seed);
+  const Eigen::Vector3f centroid = internal::robustCentroid(scene_points);
+  Eigen::Vector3f view = centroid - camera;
+  view = view.norm() > 1e-9f ? Eigen::Vector3f(view.normalized()) : Eigen::Vector3f::UnitZ();
+  std::vector<std::size_t> anchor_of, kept_anchor;
+  const std::vector<PoseHypothesis> coarse =
+      coarsePass(model, anchors, view, params, seed, threads, anchor_of);
+  std::vector<PoseHypothesis> kept = bestDistinct(coarse, anchor_of, params, kept_anchor);
+  refineOnField(model, anchors, kept_anchor, params, threads, kept);
   return kept;
 }
 

@@ -79,7 +79,7 @@ PoseQuality measurePoseQuality(const IcfModel& model,
                                const std::vector<Eigen::Vector3f>& scene_points,
                                const Eigen::Isometry3f& scene_to_model,
                                const Eigen::Vector3f& camera, float inlier_distance,
-                               float gate_distance, const ThesisObjectiveParams& objective,
+                               float gate_distance, const ObjectiveParams& objective,
                                const VisibilityParams& visibility, int threads) {
   PoseQuality q;
   if (scene_points.empty())
@@ -95,7 +95,7 @@ PoseQuality measurePoseQuality(const IcfModel& model,
             .distance;  // +inf beyond the search radius: f = 0 there anyway
   double sq = 0.0;
   for (float d : distances) {
-    q.thesis_score += thesisPointScore(d, objective);
+    q.thesis_score += objectivePointScore(d, objective);
     if (d > gate_distance)
       ++q.far_points;
     if (d <= inlier_distance) {

@@ -4,6 +4,7 @@
  */
 #include <pcl/icf/distance_field.h>
 #include <pcl/icf/refinement.h>
+#include <pcl_icf_internal/damped_step.h>
 #include <pcl_icf_internal/parameter_check.h>
 
 #include <Eigen/Eigenvalues>
@@ -37,6 +38,8 @@ void RefinementParams::validate() const {
     fail("*_epsilon", -1, "must be >= 0");
 }
 
+namespace internal {
+
 int solveDampedDegeneracyAware(const Eigen::Matrix<double, 6, 6>& H,
                                const Eigen::Matrix<double, 6, 1>& g, double damping, double ratio,
                                Eigen::Matrix<double, 6, 1>& x) {
@@ -58,6 +61,8 @@ int solveDampedDegeneracyAware(const Eigen::Matrix<double, 6, 6>& H,
   }
   return degenerate;
 }
+
+}  // namespace internal
 
 namespace {
 
@@ -134,8 +139,8 @@ RefinementResult iterate(const Correspond& correspond, const Eigen::Vector3f& pi
     if (ne.weight < 6.0)  // fewer than ~6 full-weight constraints: nothing reliable to solve
       break;
     Eigen::Matrix<double, 6, 1> x;
-    result.degenerate_directions =
-        solveDampedDegeneracyAware(ne.H, ne.g, params.damping, params.degeneracy_ratio, x);
+    result.degenerate_directions = internal::solveDampedDegeneracyAware(ne.H, ne.g, params.damping,
+                                                                        params.degeneracy_ratio, x);
     const Eigen::Vector3d omega = x.head<3>() / scale;
     const Eigen::Vector3d v = x.tail<3>();
     const double angle = omega.norm();

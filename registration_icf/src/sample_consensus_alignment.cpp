@@ -229,25 +229,46 @@ SacModelFeatures::ConstPtr prepareSacModel(const FaceMesh& mesh, const SacParams
   return result;
 }
 
+namespace {
+
+/** The process-wide cache behind cachedSacModel: model features, most recently used first,
+ * keyed by modelKey. */
+struct SacModelCache {
+  static constexpr std::size_t kCapacity = 8;
+  std::mutex mutex;
+  std::list<std::pair<std::uint64_t, SacModelFeatures::ConstPtr>> entries;  // MRU first
+};
+
+SacModelCache& sacModelCache() {
+  static SacModelCache cache;
+  return cache;
+}
+
+}  // namespace
+
 SacModelFeatures::ConstPtr cachedSacModel(const IcfModel& model, const SacParams& params,
                                           int threads) {
   params.validate();
-  constexpr std::size_t kCapacity = 8;
-  static std::mutex mutex;
-  static std::list<std::pair<std::uint64_t, SacModelFeatures::ConstPtr>> cache;  // MRU first
+  SacModelCache& cache = sacModelCache();
   const std::uint64_t key = modelKey(model.mesh(), params);
-  std::lock_guard<std::mutex> lock(mutex);
-  for (auto it = cache.begin(); it != cache.end(); ++it)
+  std::lock_guard<std::mutex> lock(cache.mutex);
+  for (auto it = cache.entries.begin(); it != cache.entries.end(); ++it)
     if (it->first == key) {
-      cache.splice(cache.begin(), cache, it);
-      return cache.front().second;
+      cache.entries.splice(cache.entries.begin(), cache.entries, it);
+      return cache.entries.front().second;
     }
   // Built under the lock: two threads asking for the same new model build it once.
   SacModelFeatures::ConstPtr built = prepareSacModel(model.mesh(), params, threads);
-  cache.emplace_front(key, built);
-  if (cache.size() > kCapacity)
-    cache.pop_back();
+  cache.entries.emplace_front(key, built);
+  if (cache.entries.size() > SacModelCache::kCapacity)
+    cache.entries.pop_back();
   return built;
+}
+
+void clearSacModelCache() {
+  SacModelCache& cache = sacModelCache();
+  std::lock_guard<std::mutex> lock(cache.mutex);
+  cache.entries.clear();
 }
 
 void computeSacSceneFeatures(const std::vector<Eigen::Vector3f>& scene_points,
@@ -286,17 +307,92 @@ void computeSacSceneFeatures(const std::vector<Eigen::Vector3f>& scene_points,
   describe(reduced, params.feature_radius, threads, keypoints, features);
 }
 
-SacResult sampleConsensusAlign(const SacModelFeatures& model,
-                               const std::vector<Eigen::Vector3f>& scene_points,
-                               const Eigen::Vector3f& camera, const SacParams& params,
-                               int threads) {
-  params.validate();
+namespace {
+
+/** \throws std::invalid_argument when \a model's features are missing, inconsistent or built
+ * with other feature parameters than \a params. */
+void checkModelFeatures(const SacModelFeatures& model, const SacParams& params) {
   if (!model.points || !model.features || model.points->size() != model.features->size())
     throw std::invalid_argument("sampleConsensusAlign: model features are empty or inconsistent");
   if (!sameFeatureParams(model.params, params))
     throw std::invalid_argument(
         "sampleConsensusAlign: the model's features were built with other voxel_size, radii, "
         "model_samples or seed than params");
+}
+
+/** PCL's aligner (params.method) from the scene keypoints to the model's, under the rand()
+ * mutex after srand(seed); false when it did not converge. */
+bool runPclAligner(const PointCloudN::Ptr& keypoints, const FeatureCloud::Ptr& features,
+                   const SacModelFeatures& model, const SacParams& params,
+                   Eigen::Matrix4f& transform) {
+  bool found = false;
+  PointCloudN aligned;
+  std::lock_guard<std::mutex> lock(randMutex());
+  std::srand(static_cast<unsigned>(params.seed ^ (params.seed >> 32)));
+  // What both classes share; then each one's own settings, align, and its answer.
+  const auto run = [&](auto& sac) {
+    sac.setInputSource(keypoints);
+    sac.setSourceFeatures(features);
+    sac.setInputTarget(model.points);
+    sac.setTargetFeatures(model.features);
+    sac.setMaximumIterations(params.max_iterations);
+    sac.setNumberOfSamples(params.samples_per_hypothesis);
+    sac.setCorrespondenceRandomness(params.correspondence_randomness);
+    sac.align(aligned);
+    found = sac.hasConverged();
+    transform = sac.getFinalTransformation();
+  };
+  if (params.method == SacMethod::Prerejective) {
+    pcl::SampleConsensusPrerejective<pcl::PointNormal, pcl::PointNormal, pcl::FPFHSignature33> sac;
+    sac.setSimilarityThreshold(params.similarity_threshold);
+    sac.setMaxCorrespondenceDistance(params.max_correspondence_distance);
+    sac.setInlierFraction(params.inlier_fraction);
+    run(sac);
+  } else {
+    pcl::SampleConsensusInitialAlignment<pcl::PointNormal, pcl::PointNormal, pcl::FPFHSignature33>
+        sac;
+    sac.setMinSampleDistance(params.min_sample_distance);
+    // SAC-IA's TruncatedError compares the *squared* nearest-neighbour distance with this
+    // threshold (PCL 1.13, ia_ransac.h): pass the distance squared, as PCL's tutorial does.
+    sac.setMaxCorrespondenceDistance(params.max_correspondence_distance *
+                                     params.max_correspondence_distance);
+    run(sac);
+  }
+  return found;
+}
+
+/** Inliers, fitness and inlier fraction of \a result.scene_to_model, measured the same way for
+ * both methods (prerejective's definition): scene keypoints within max_correspondence_distance
+ * of a model keypoint, and their mean squared distance. */
+void measureInliers(const PointCloudN& keypoints, const SacModelFeatures& model,
+                    const SacParams& params, SacResult& result) {
+  pcl::search::KdTree<pcl::PointNormal> tree;
+  tree.setInputCloud(model.points);
+  pcl::Indices index(1);
+  std::vector<float> sqr(1);
+  const float max_sqr = params.max_correspondence_distance * params.max_correspondence_distance;
+  double sum = 0.0;
+  for (const auto& k : keypoints) {
+    pcl::PointNormal moved;
+    moved.getVector3fMap() = (result.scene_to_model * k.getVector3fMap().homogeneous()).head<3>();
+    if (tree.nearestKSearch(moved, 1, index, sqr) == 1 && sqr[0] < max_sqr) {
+      ++result.inliers;
+      sum += sqr[0];
+    }
+  }
+  result.fitness = result.inliers > 0 ? sum / static_cast<double>(result.inliers) : 0.0;
+  result.inlier_fraction =
+      static_cast<double>(result.inliers) / static_cast<double>(keypoints.size());
+}
+
+}  // namespace
+
+SacResult sampleConsensusAlign(const SacModelFeatures& model,
+                               const std::vector<Eigen::Vector3f>& scene_points,
+                               const Eigen::Vector3f& camera, const SacParams& params,
+                               int threads) {
+  params.validate();
+  checkModelFeatures(model, params);
   const auto start = Clock::now();
   SacResult result;
   auto keypoints = pcl::make_shared<PointCloudN>();
@@ -310,44 +406,8 @@ SacResult sampleConsensusAlign(const SacModelFeatures& model,
     result.time_ms = msSince(start);
     return result;
   }
-
-  bool found = false;
   Eigen::Matrix4f transform = Eigen::Matrix4f::Identity();
-  PointCloudN aligned;
-  {
-    std::lock_guard<std::mutex> lock(randMutex());
-    std::srand(static_cast<unsigned>(params.seed ^ (params.seed >> 32)));
-    // What both classes share; then each one's own settings, align, and its answer.
-    const auto run = [&](auto& sac) {
-      sac.setInputSource(keypoints);
-      sac.setSourceFeatures(features);
-      sac.setInputTarget(model.points);
-      sac.setTargetFeatures(model.features);
-      sac.setMaximumIterations(params.max_iterations);
-      sac.setNumberOfSamples(params.samples_per_hypothesis);
-      sac.setCorrespondenceRandomness(params.correspondence_randomness);
-      sac.align(aligned);
-      found = sac.hasConverged();
-      transform = sac.getFinalTransformation();
-    };
-    if (params.method == SacMethod::Prerejective) {
-      pcl::SampleConsensusPrerejective<pcl::PointNormal, pcl::PointNormal, pcl::FPFHSignature33>
-          sac;
-      sac.setSimilarityThreshold(params.similarity_threshold);
-      sac.setMaxCorrespondenceDistance(params.max_correspondence_distance);
-      sac.setInlierFraction(params.inlier_fraction);
-      run(sac);
-    } else {
-      pcl::SampleConsensusInitialAlignment<pcl::PointNormal, pcl::PointNormal, pcl::FPFHSignature33>
-          sac;
-      sac.setMinSampleDistance(params.min_sample_distance);
-      // SAC-IA's TruncatedError compares the *squared* nearest-neighbour distance with this
-      // threshold (PCL 1.13, ia_ransac.h): pass the distance squared, as PCL's tutorial does.
-      sac.setMaxCorrespondenceDistance(params.max_correspondence_distance *
-                                       params.max_correspondence_distance);
-      run(sac);
-    }
-  }
+  const bool found = runPclAligner(keypoints, features, model, params, transform);
   if (!found || !transform.allFinite()) {
     result.status = SacStatus::NotFound;
     result.time_ms = msSince(start);
@@ -355,24 +415,7 @@ SacResult sampleConsensusAlign(const SacModelFeatures& model,
   }
   result.status = SacStatus::Found;
   result.scene_to_model = transform;
-  // Inliers and fitness measured the same way for both methods (prerejective's definition).
-  pcl::search::KdTree<pcl::PointNormal> tree;
-  tree.setInputCloud(model.points);
-  pcl::Indices index(1);
-  std::vector<float> sqr(1);
-  const float max_sqr = params.max_correspondence_distance * params.max_correspondence_distance;
-  double sum = 0.0;
-  for (const auto& k : *keypoints) {
-    pcl::PointNormal moved;
-    moved.getVector3fMap() = (transform * k.getVector3fMap().homogeneous()).head<3>();
-    if (tree.nearestKSearch(moved, 1, index, sqr) == 1 && sqr[0] < max_sqr) {
-      ++result.inliers;
-      sum += sqr[0];
-    }
-  }
-  result.fitness = result.inliers > 0 ? sum / static_cast<double>(result.inliers) : 0.0;
-  result.inlier_fraction =
-      static_cast<double>(result.inliers) / static_cast<double>(keypoints->size());
+  measureInliers(*keypoints, model, params, result);
   result.time_ms = msSince(start);
   return result;
 }

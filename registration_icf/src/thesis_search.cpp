@@ -56,7 +56,7 @@ Eigen::Isometry3f sceneToModel(const SearchPose& p, const Eigen::Vector3f& model
 class Evaluator {
  public:
   Evaluator(const IcfModel& model, const std::vector<Eigen::Vector3f>& points,
-            const ThesisSearchParams& params, const ThesisObjectiveParams& objective)
+            const ThesisSearchParams& params, const ObjectiveParams& objective)
       : model_(model), points_(points), params_(params), objective_(objective) {}
 
   double operator()(const SearchPose& pose) const {
@@ -65,12 +65,12 @@ class Evaluator {
     for (std::size_t i = 0; i < points_.size(); ++i)
       moved[i] = T * points_[i];
     if (params_.use_field)
-      return thesisObjective(
+      return objectiveValue(
           moved, [this](const Eigen::Vector3f& x) { return model_.field().distance(x); },
           objective_);
     const float radius =
         std::max(objective_.cutoff / objective_.far_factor, objective_.early_exit_distance) * 1.01f;
-    return thesisObjective(
+    return objectiveValue(
         moved,
         [this, radius](const Eigen::Vector3f& x) {
           return model_.index().closestFace(x, radius).distance;
@@ -82,40 +82,106 @@ class Evaluator {
   const IcfModel& model_;
   const std::vector<Eigen::Vector3f>& points_;
   const ThesisSearchParams& params_;
-  const ThesisObjectiveParams& objective_;
+  const ObjectiveParams& objective_;
 };
+
+/** The search's random draws, all from one generator in the thesis's order: uniform
+ * translations in the cluster's bounding box, uniform Euler angles, Gaussian kernel offsets. */
+class Draws {
+ public:
+  Draws(std::uint64_t seed, const std::vector<Eigen::Vector3f>& points)
+      : rng_(seed), angle_(-kPi, kPi), lo_(points.front()), hi_(lo_) {
+    for (const auto& p : points) {
+      lo_ = lo_.cwiseMin(p);
+      hi_ = hi_.cwiseMax(p);
+    }
+  }
+
+  Eigen::Vector3f translation() {
+    Eigen::Vector3f t;
+    for (int a = 0; a < 3; ++a)
+      t[a] = std::uniform_real_distribution<float>(lo_[a], hi_[a])(rng_);
+    return t;
+  }
+  Eigen::Vector3f angles() { return Eigen::Vector3f(angle_(rng_), angle_(rng_), angle_(rng_)); }
+  /** Three standard normal draws: a kernel's offset before its sigma. */
+  Eigen::Vector3f gaussian() { return Eigen::Vector3f(gauss_(rng_), gauss_(rng_), gauss_(rng_)); }
+
+ private:
+  static constexpr float kPi = 3.14159265f;
+  std::mt19937_64 rng_;
+  std::normal_distribution<float> gauss_;
+  std::uniform_real_distribution<float> angle_;
+  Eigen::Vector3f lo_, hi_;
+};
+
+SearchPose bestOf(const std::vector<SearchPose>& poses) {
+  return *std::max_element(
+      poses.begin(), poses.end(),
+      [](const SearchPose& a, const SearchPose& b) { return a.score < b.score; });
+}
+
+/** The two inner loops of Algorithm 2 at translation \a t: from random Euler angles, a kernel
+ * of samples_per_kernel orientations around the best so far, its sigma shrinking each
+ * iteration; after stall_limit iterations without a better score the local maximum goes to
+ * BestList and the kernel restarts wide around new random angles. Returns BestList's best.
+ * \a kernel_samples is the caller's buffer (samples_per_kernel entries), scored in parallel. */
+SearchPose searchOrientations(const Eigen::Vector3f& t, const ThesisSearchParams& params,
+                              const Evaluator& evaluate, Draws& draws,
+                              std::vector<SearchPose>& kernel_samples, int threads) {
+  Eigen::Vector3f angles = draws.angles();
+  float sigma_r = params.initial_rotation_sigma;
+  std::vector<SearchPose> best_list, pose_list;
+  double loop_best = -1.0;
+  int stalls = 0;
+  SearchPose best_pose;
+  for (int it2 = 0; it2 < params.orientation_iterations; ++it2) {
+    sigma_r = std::max(params.min_rotation_sigma, sigma_r - params.rotation_sigma_step);
+    if (stalls >= params.stall_limit) {  // local maximum: save it, restart wide and random
+      if (!pose_list.empty())
+        best_list.push_back(pose_list.front());
+      pose_list.clear();
+      sigma_r = params.initial_rotation_sigma;
+      angles = draws.angles();
+      stalls = 0;
+      loop_best = -1.0;
+    }
+    for (SearchPose& s : kernel_samples) {
+      s.t = t;
+      s.angles = angles + sigma_r * draws.gaussian();
+    }
+    const int n = static_cast<int>(kernel_samples.size());
+#pragma omp parallel for schedule(static) num_threads(std::max(1, threads))
+    for (int k = 0; k < n; ++k)
+      kernel_samples[static_cast<std::size_t>(k)].score =
+          evaluate(kernel_samples[static_cast<std::size_t>(k)]);
+    best_pose = bestOf(kernel_samples);
+    if (!pose_list.empty() && pose_list.front().score >= best_pose.score)
+      best_pose = pose_list.front();  // the kernel's mean stays when nothing beats it
+    pose_list.assign(1, best_pose);
+    angles = best_pose.angles;
+    stalls = best_pose.score > loop_best ? 0 : stalls + 1;
+    loop_best = std::max(loop_best, best_pose.score);
+  }
+  best_list.push_back(best_pose);
+  return bestOf(best_list);
+}
 
 }  // namespace
 
 PoseHypothesis thesisSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
-                            const ThesisSearchParams& params,
-                            const ThesisObjectiveParams& objective, std::uint64_t seed,
-                            int threads) {
+                            const ThesisSearchParams& params, const ObjectiveParams& objective,
+                            std::uint64_t seed, int threads) {
   params.validate();
   objective.validate();
   PoseHypothesis out;
   if (scene_points.empty())
     return out;
   const Evaluator evaluate(model, scene_points, params, objective);
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<float> gauss;
-  constexpr float kPi = 3.14159265f;
-  std::uniform_real_distribution<float> angle(-kPi, kPi);
-  Eigen::Vector3f lo = scene_points.front(), hi = lo;
-  for (const auto& p : scene_points) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  auto randomTranslation = [&] {
-    Eigen::Vector3f t;
-    for (int a = 0; a < 3; ++a)
-      t[a] = std::uniform_real_distribution<float>(lo[a], hi[a])(rng);
-    return t;
-  };
-  auto randomAngles = [&] { return Eigen::Vector3f(angle(rng), angle(rng), angle(rng)); };
+  Draws draws(seed, scene_points);
 
   SearchPose best;
-  Eigen::Vector3f best_xyz = randomTranslation();
+  Eigen::Vector3f best_xyz = draws.translation();
   float sigma_t = params.initial_translation_sigma;
   bool translation_stuck = false;
   int translation_stalls = 0;
@@ -127,59 +193,20 @@ PoseHypothesis thesisSearch(const IcfModel& model, const std::vector<Eigen::Vect
       sigma_t = std::max(params.min_translation_sigma, sigma_t - params.translation_sigma_step);
     } else {
       sigma_t = params.restart_translation_sigma;
-      best_xyz = randomTranslation();
+      best_xyz = draws.translation();
       best_transl.push_back(best);
       translation_stuck = false;
       translation_stalls = 0;
     }
     SearchPose pose;
-    pose.t = best_xyz + sigma_t * Eigen::Vector3f(gauss(rng), gauss(rng), gauss(rng));
+    pose.t = best_xyz + sigma_t * draws.gaussian();
     pose.angles = best.angles;
     pose.score = evaluate(pose);
     if (pose.score > best.score)
       best = pose;
 
-    // Orientation search for this translation (the two inner loops).
-    Eigen::Vector3f angles = randomAngles();
-    float sigma_r = params.initial_rotation_sigma;
-    std::vector<SearchPose> best_list, pose_list;
-    double loop_best = -1.0;
-    int stalls = 0;
-    SearchPose best_pose;
-    for (int it2 = 0; it2 < params.orientation_iterations; ++it2) {
-      sigma_r = std::max(params.min_rotation_sigma, sigma_r - params.rotation_sigma_step);
-      if (stalls >= params.stall_limit) {  // local maximum: save it, restart wide and random
-        if (!pose_list.empty())
-          best_list.push_back(pose_list.front());
-        pose_list.clear();
-        sigma_r = params.initial_rotation_sigma;
-        angles = randomAngles();
-        stalls = 0;
-        loop_best = -1.0;
-      }
-      for (SearchPose& s : kernel_samples) {
-        s.t = pose.t;
-        s.angles = angles + sigma_r * Eigen::Vector3f(gauss(rng), gauss(rng), gauss(rng));
-      }
-      const int n = static_cast<int>(kernel_samples.size());
-#pragma omp parallel for schedule(static) num_threads(std::max(1, threads))
-      for (int k = 0; k < n; ++k)
-        kernel_samples[static_cast<std::size_t>(k)].score =
-            evaluate(kernel_samples[static_cast<std::size_t>(k)]);
-      best_pose = *std::max_element(
-          kernel_samples.begin(), kernel_samples.end(),
-          [](const SearchPose& a, const SearchPose& b) { return a.score < b.score; });
-      if (!pose_list.empty() && pose_list.front().score >= best_pose.score)
-        best_pose = pose_list.front();  // the kernel's mean stays when nothing beats it
-      pose_list.assign(1, best_pose);
-      angles = best_pose.angles;
-      stalls = best_pose.score > loop_best ? 0 : stalls + 1;
-      loop_best = std::max(loop_best, best_pose.score);
-    }
-    best_list.push_back(best_pose);
-    const SearchPose round_best = *std::max_element(
-        best_list.begin(), best_list.end(),
-        [](const SearchPose& a, const SearchPose& b) { return a.score < b.score; });
+    const SearchPose round_best =
+        searchOrientations(pose.t, params, evaluate, draws, kernel_samples, threads);
     if (round_best.score >= best.score && round_best.score > 0.0) {
       translation_stalls = round_best.score > best.score ? 0 : translation_stalls + 1;
       best = round_best;
@@ -190,9 +217,7 @@ PoseHypothesis thesisSearch(const IcfModel& model, const std::vector<Eigen::Vect
     translation_stuck = translation_stalls >= params.stall_limit && best.score > 0.0;
     best_transl.push_back(best);
   }
-  const SearchPose final_best =
-      *std::max_element(best_transl.begin(), best_transl.end(),
-                        [](const SearchPose& a, const SearchPose& b) { return a.score < b.score; });
+  const SearchPose final_best = bestOf(best_transl);
   out.scene_to_model = sceneToModel(final_best, model.mesh().surfaceCentroid());
   out.score = final_best.score;
   return out;

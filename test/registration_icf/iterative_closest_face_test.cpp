@@ -2,9 +2,9 @@
 // random poses, with no initial guess: the fast strategy must recover >= 95% of 50 seeded
 // trials per model within 5 mm and 3 degrees (symmetry-aware, thesis chapter 7). Plus the
 // Registration contract, the thesis strategy on a reduced budget, and bad input.
-#include "support/depth_camera.h"
-#include "support/pose_error.h"
-#include "support/synthetic_models.h"
+#include "synthetic/depth_camera.h"
+#include "synthetic/pose_error.h"
+#include "synthetic/synthetic_models.h"
 
 #include <pcl/common/io.h>
 #include <pcl/common/transforms.h>
@@ -227,7 +227,7 @@ TEST(IterativeClosestFace, WrongModelLeavesTheClusterUnexplained) {
   icf.setInputTarget(meshOf("EisKaffe"));
   icf.setInputSource(t.cluster);
   pcl::icf::IcfParams params;
-  params.acceptance.thesis_gate = true;
+  params.acceptance.far_point_gate = true;
   icf.setParams(params);
   pcl::PointCloud<pcl::PointXYZ> aligned;
   icf.align(aligned);
@@ -237,14 +237,14 @@ TEST(IterativeClosestFace, WrongModelLeavesTheClusterUnexplained) {
   EXPECT_LT(icf.getResult().quality.inlier_ratio, 0.8);
 }
 
-TEST(IterativeClosestFace, ThesisGateAcceptsTheRightModelOnASingleObjectCluster) {
+TEST(IterativeClosestFace, FarPointGateAcceptsTheRightModelOnASingleObjectCluster) {
   const SyntheticModel model = pcl::icf::test::thesisModel("Box5");
   const Trial t = makeTrial(model, 5);
   pcl::IterativeClosestFace<pcl::PointXYZ> icf;
   icf.setInputTarget(meshOf("Box5"));
   icf.setInputSource(t.cluster);
   pcl::icf::IcfParams params;
-  params.acceptance.thesis_gate = true;
+  params.acceptance.far_point_gate = true;
   // The simulated scan has 5% outliers up to 5 cm off along the ray: the thesis's gate of
   // 5 points beyond 27 mm assumed a cleaner cut-out, so allow 10% of the cluster here.
   params.acceptance.gate_max_far_points = static_cast<int>(t.cluster->size() / 10);
@@ -524,21 +524,21 @@ TEST(IcfParams, DocumentedDefaultsAreTheRealDefaults) {
   EXPECT_NO_THROW(p.validate());
 }
 
-TEST(ThesisObjective, MatchesSection421) {
-  const pcl::icf::ThesisObjectiveParams p;
-  EXPECT_FLOAT_EQ(pcl::icf::thesisPointScore(0.f, p), 1.f);
-  EXPECT_FLOAT_EQ(pcl::icf::thesisPointScore(0.020f, p), 1.f - 0.020f / 0.2f);  // g = d
-  EXPECT_FLOAT_EQ(pcl::icf::thesisPointScore(0.040f, p), 1.f - 0.160f / 0.2f);  // g = 4 d
-  EXPECT_FLOAT_EQ(pcl::icf::thesisPointScore(0.050f, p), 0.f);                  // g = m
-  EXPECT_FLOAT_EQ(pcl::icf::thesisPointScore(0.150f, p), 0.f);
+TEST(Objective, MatchesThesisSection421) {
+  const pcl::icf::ObjectiveParams p;
+  EXPECT_FLOAT_EQ(pcl::icf::objectivePointScore(0.f, p), 1.f);
+  EXPECT_FLOAT_EQ(pcl::icf::objectivePointScore(0.020f, p), 1.f - 0.020f / 0.2f);  // g = d
+  EXPECT_FLOAT_EQ(pcl::icf::objectivePointScore(0.040f, p), 1.f - 0.160f / 0.2f);  // g = 4 d
+  EXPECT_FLOAT_EQ(pcl::icf::objectivePointScore(0.050f, p), 0.f);                  // g = m
+  EXPECT_FLOAT_EQ(pcl::icf::objectivePointScore(0.150f, p), 0.f);
   // Early exit: 501 far points make F = 0 however good the rest is.
   std::vector<Eigen::Vector3f> points(1000, Eigen::Vector3f::Zero());
   for (int i = 0; i < 501; ++i)
     points[static_cast<std::size_t>(i)].x() = 1.f;
   auto distance = [](const Eigen::Vector3f& x) { return x.x(); };
-  EXPECT_EQ(pcl::icf::thesisObjective(points, distance, p), 0.0);
+  EXPECT_EQ(pcl::icf::objectiveValue(points, distance, p), 0.0);
   points[0].x() = 0.f;  // 500 far points: no exit, F = 500 near points * 1
-  EXPECT_DOUBLE_EQ(pcl::icf::thesisObjective(points, distance, p), 500.0);
+  EXPECT_DOUBLE_EQ(pcl::icf::objectiveValue(points, distance, p), 500.0);
 }
 
 }  // namespace

@@ -2,9 +2,9 @@
 // SampleConsensusInitialAlignment) on synthetic depth views, alone and as the fallback of
 // estimatePose: it recovers a pose, is reproducible for a seed, fires under policy Auto only
 // when the search's pose is rejected, never under Off, and replaces the search under Always.
-#include "support/depth_camera.h"
-#include "support/pose_error.h"
-#include "support/synthetic_models.h"
+#include "synthetic/depth_camera.h"
+#include "synthetic/pose_error.h"
+#include "synthetic/synthetic_models.h"
 #include "test_paths.h"
 
 #include <pcl/icf/estimate_pose.h>
@@ -14,8 +14,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <iostream>
+#include <iterator>
 #include <memory>
 
 namespace {
@@ -147,6 +149,16 @@ TEST(SampleConsensusAlign, ModelFeaturesAreCachedByContent) {
   const Trial t = makeTrial(model, 2);
   EXPECT_THROW(pcl::icf::sampleConsensusAlign(*fa, t.points, Eigen::Vector3f::Zero(), params, 1),
                std::invalid_argument);
+  // Cleared, the cache builds the features again: the same features, a new object.
+  params.feature_radius = SacParams().feature_radius;
+  pcl::icf::clearSacModelCache();
+  const auto rebuilt = pcl::icf::cachedSacModel(*a, params);
+  EXPECT_NE(fa, rebuilt);
+  ASSERT_EQ(fa->features->size(), rebuilt->features->size());
+  for (std::size_t i = 0; i < fa->features->size(); ++i)
+    ASSERT_TRUE(std::equal(std::begin((*fa->features)[i].histogram),
+                           std::end((*fa->features)[i].histogram),
+                           std::begin((*rebuilt->features)[i].histogram)));
 }
 
 TEST(SampleConsensusAlign, TooFewPointsIsAStatusNotAnError) {
@@ -224,7 +236,7 @@ pcl::icf::IcfParams crippledSearch(std::size_t points) {
   params.global.rotations = 1;
   params.global.keep = 1;
   params.exact_candidates = 1;
-  params.acceptance.thesis_gate = true;
+  params.acceptance.far_point_gate = true;
   params.acceptance.gate_max_far_points = static_cast<int>(points / 10);
   return params;
 }

@@ -60,10 +60,11 @@ struct AcceptanceParams {
   double max_rmse = 0.006;
   /** At least this many inliers. */
   std::size_t min_inliers = 30;
-  /** Also apply the thesis's gate (section 6.2): reject when more than gate_max_far_points
-   * points lie farther than gate_distance (27 mm). Off by default: it assumes the cluster
-   * holds nothing but the target. */
-  bool thesis_gate = false;
+  /** Also apply the far-point gate: reject when more than gate_max_far_points points lie
+   * farther than gate_distance (27 mm) from the posed model (PoseQuality::far_points). It is
+   * the ICF thesis's acceptance test (Armenise, KTH 2013, section 6.2). Off by default: it assumes
+   * the cluster holds nothing but the target. */
+  bool far_point_gate = false;
   float gate_distance = 0.027f;
   int gate_max_far_points = 5;
   VisibilityParams visibility;
@@ -87,7 +88,7 @@ struct IcfParams {
   SearchStrategy strategy = SearchStrategy::Fast;
   GlobalSearchParams global;
   ThesisSearchParams thesis;
-  ThesisObjectiveParams objective;
+  ObjectiveParams objective;
   RefinementParams refinement;
   /** Best hypotheses of the fast search refined with exact faces before the final choice. */
   std::size_t exact_candidates = 3;

@@ -82,41 +82,13 @@ std::vector<PoseHypothesis> globalSearch(const IcfModel& model,
                                          const GlobalSearchParams& params, std::uint64_t seed,
                                          int threads = 1);
 
-/** \brief Kernel score (eq. 4) of a pose over points, distances from the field. */
-double fieldKernelScore(const ClosestPointField& field,
-                        const std::vector<Eigen::Vector3f>& scene_points,
-                        const Eigen::Isometry3f& scene_to_model, float kernel);
-
-/** \brief Centroid of a cluster that ignores a few far stray points (doc/icf.md section 4). */
-Eigen::Vector3f robustCentroid(const std::vector<Eigen::Vector3f>& points);
-
-/** \brief The 90th percentile of the points' distances from \a centroid: the cluster's size
- * without the few outliers of a Kinect cut-out (0 for no points). */
-float clusterSpread(const std::vector<Eigen::Vector3f>& points, const Eigen::Vector3f& centroid);
-
 /** \brief True when a cluster holds more than one object (or more than this one): its spread
- * around its robust centroid exceeds params.merged_cluster_ratio x \a model_radius. The global
- * search then searches windows (translationAnchors); the localizer splits such a cluster by
+ * (the 90th percentile of its points' distances from their robust centroid, which ignores a
+ * few far stray points) exceeds params.merged_cluster_ratio x \a model_radius. The global
+ * search then searches local windows of the cluster; the localizer splits such a cluster by
  * convexity. */
 bool spreadsWiderThanModel(const std::vector<Eigen::Vector3f>& points, float model_radius,
                            const GlobalSearchParams& params);
-
-/** \brief Where the global search places the model's visible centroid, and the scene points
- * that score it there. */
-struct SearchAnchor {
-  Eigen::Vector3f centre = Eigen::Vector3f::Zero();
-  std::vector<Eigen::Vector3f> subset;
-};
-
-/** \brief The search's anchors: the centroid of all points with a random subsample, or, for a
- * cluster that spreads wider than the model (see merged_cluster_ratio), local windows. */
-std::vector<SearchAnchor> translationAnchors(const std::vector<Eigen::Vector3f>& points,
-                                             float model_radius, const GlobalSearchParams& params,
-                                             std::uint64_t seed);
-
-/** \brief A seeded random subset of \a count points (all of them when there are fewer). */
-std::vector<Eigen::Vector3f> randomSubset(const std::vector<Eigen::Vector3f>& points,
-                                          std::size_t count, std::uint64_t seed);
 
 }  // namespace icf
 }  // namespace pcl

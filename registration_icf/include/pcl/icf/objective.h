@@ -11,14 +11,18 @@
 namespace pcl {
 namespace icf {
 
-/** \brief The thesis's objective function (section 4.2.1; doc/icf.md eq. 1-2), in scene units.
+/** \brief Parameters of the pose objective F: how many scene points a pose explains, each
+ * point's share falling linearly with its distance to the model, steeply beyond a near band,
+ * to nothing at a cutoff. It is the objective of the ICF thesis (Armenise, KTH 2013, section 4.2.1;
+ * doc/icf.md eq. 1-2), which its search maximises (thesisSearch) and PoseQuality::thesis_score
+ * reports. Lengths in scene units.
  *
  * F(P, S) = sum over points x of f(x, P), with d the distance from x to the closest face of
  * the model in pose P, g = d when d < near_distance, else far_factor * d, and
  * f = 1 - g / cutoff when g < cutoff, else 0. Early exit (section 4.3.2): when more than
  * early_exit_count points lie farther than early_exit_distance, F = 0. Defaults are the
  * thesis's values converted from millimetres to metres. */
-struct ThesisObjectiveParams {
+struct ObjectiveParams {
   float near_distance = 0.030f;        ///< 30 mm
   float far_factor = 4.f;              ///< g = 4 d beyond near_distance
   float cutoff = 0.200f;               ///< m = 200 mm
@@ -30,24 +34,24 @@ struct ThesisObjectiveParams {
   void validate() const;
 };
 
-/** \brief f(x, P) for one point at distance \a d (eq. 1). */
-inline float thesisPointScore(float d, const ThesisObjectiveParams& p) {
+/** \brief f(x, P): one point's share of F at distance \a d from the model (eq. 1). */
+inline float objectivePointScore(float d, const ObjectiveParams& p) {
   const float g = d < p.near_distance ? d : p.far_factor * d;
   return g < p.cutoff ? 1.f - g / p.cutoff : 0.f;
 }
 
-/** \brief F(P, S) for points already in the model frame, with distances from \a distance
- * (the exact index or the field), honouring the early exit. */
+/** \brief F(P, S), the objective's value, for points already in the model frame, with
+ * distances from \a distance (the exact index or the field), honouring the early exit. */
 template <typename DistanceFunction>
-double thesisObjective(const std::vector<Eigen::Vector3f>& model_frame_points,
-                       const DistanceFunction& distance, const ThesisObjectiveParams& p) {
+double objectiveValue(const std::vector<Eigen::Vector3f>& model_frame_points,
+                      const DistanceFunction& distance, const ObjectiveParams& p) {
   double sum = 0.0;
   int far = 0;
   for (const Eigen::Vector3f& x : model_frame_points) {
     const float d = distance(x);
     if (p.early_exit && d > p.early_exit_distance && ++far > p.early_exit_count)
       return 0.0;
-    sum += thesisPointScore(d, p);
+    sum += objectivePointScore(d, p);
   }
   return sum;
 }

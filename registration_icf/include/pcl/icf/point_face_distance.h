@@ -29,6 +29,25 @@ struct ClosestPointOnFace {
   Scalar squared_distance = std::numeric_limits<Scalar>::infinity();
   FaceFeature feature = FaceFeature::Interior;
   int feature_index = -1;
+
+  /** \brief The answer for query \a p when its closest point is \a c, on \a feature number
+   * \a index of the face. */
+  static ClosestPointOnFace at(const Eigen::Matrix<Scalar, 3, 1>& p,
+                               const Eigen::Matrix<Scalar, 3, 1>& c, FaceFeature feature,
+                               int index) {
+    ClosestPointOnFace r;
+    r.point = c;
+    r.squared_distance = (p - c).squaredNorm();
+    r.feature = feature;
+    r.feature_index = index;
+    return r;
+  }
+
+  /** \brief Take \a candidate when it is strictly closer (the first of equals is kept). */
+  void keepCloser(const ClosestPointOnFace& candidate) {
+    if (candidate.squared_distance < squared_distance)
+      *this = candidate;
+  }
 };
 
 /** \brief Closest point on the segment [a, b] to p, as a parameter t in [0, 1]. */
@@ -42,6 +61,14 @@ inline Scalar closestParameterOnSegment(const Eigen::Matrix<Scalar, 3, 1>& p,
     return Scalar(0);
   return std::clamp((p - a).dot(ab) / len2, Scalar(0), Scalar(1));
 }
+
+/** \brief Closest point on edge \a edge = [a, b] of a face, classified as that edge or as one
+ * of its end vertices (\a ia, \a ib: the indices of a and b within the face). */
+template <typename Scalar>
+ClosestPointOnFace<Scalar> closestPointOnFaceEdge(const Eigen::Matrix<Scalar, 3, 1>& p,
+                                                  const Eigen::Matrix<Scalar, 3, 1>& a,
+                                                  const Eigen::Matrix<Scalar, 3, 1>& b, int edge,
+                                                  int ia, int ib);
 
 /** \brief Exact closest point on the triangle (a, b, c) to p (Voronoi-region walk, Ericson,
  * "Real-Time Collision Detection", 5.1.5; doc/icf.md eq. 3).

@@ -63,7 +63,7 @@ PoseQuality measurePoseQuality(const IcfModel& model,
                                const std::vector<Eigen::Vector3f>& scene_points,
                                const Eigen::Isometry3f& scene_to_model,
                                const Eigen::Vector3f& camera, float inlier_distance,
-                               float gate_distance, const ThesisObjectiveParams& objective,
+                               float gate_distance, const ObjectiveParams& objective,
                                const VisibilityParams& visibility, int threads = 1);
 
 }  // namespace icf

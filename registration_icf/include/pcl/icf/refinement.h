@@ -80,11 +80,5 @@ RefinementResult refinePoseOnField(const ClosestPointField& field, const Eigen::
                                    const Eigen::Isometry3f& initial,
                                    const RefinementParams& params);
 
-/** \brief Solve the damped 6x6 normal equations H x = -g, leaving degenerate directions (an
- * eigenvalue below ratio * the largest) at zero. Returns the number of such directions. */
-int solveDampedDegeneracyAware(const Eigen::Matrix<double, 6, 6>& H,
-                               const Eigen::Matrix<double, 6, 1>& g, double damping, double ratio,
-                               Eigen::Matrix<double, 6, 1>& x);
-
 }  // namespace icf
 }  // namespace pcl

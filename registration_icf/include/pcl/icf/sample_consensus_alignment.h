@@ -91,12 +91,28 @@ struct SacModelFeatures {
 SacModelFeatures::ConstPtr prepareSacModel(const FaceMesh& mesh, const SacParams& params,
                                            int threads = 1);
 
-/** \brief prepareSacModel through a process-wide cache: the features are built on the first
- * call for a mesh (recognised by a hash of its vertices and faces, not by address) and a set
- * of feature parameters, and shared afterwards. Holds at most 8 models (least recently used
- * dropped). Thread-safe. */
+/** \brief prepareSacModel through a cache that is process-wide global state: one cache for the
+ * whole process, shared by every caller (estimatePose's fallback, sampleConsensusAlign on an
+ * IcfModel, the localizer, the tracker), not owned by any object.
+ *
+ * - Key: a hash of the mesh's vertices and faces (not its address, so two IcfModels of the same
+ *   mesh share one entry) and of the feature parameters (voxel_size, normal_radius,
+ *   feature_radius, model_samples, seed). The features are built on the first call for a key.
+ * - Bounded: at most 8 entries; the least recently used is dropped beyond that. An entry holds
+ *   a few thousand keypoints with FPFH descriptors (about 1 MB); a returned pointer stays valid
+ *   after its entry is dropped or cleared.
+ * - Thread-safe: one mutex; a missing entry is built under it, so concurrent callers asking for
+ *   the same new model build it once (and others wait for it).
+ * - Results do not depend on it: the features are a deterministic function of the key, so a
+ *   hit returns what a rebuild would. It only saves the 0.1-1 s of prepareSacModel.
+ * - Cleared by clearSacModelCache(); callers who want no global state call prepareSacModel
+ *   themselves and the sampleConsensusAlign overload that takes SacModelFeatures. */
 SacModelFeatures::ConstPtr cachedSacModel(const IcfModel& model, const SacParams& params,
                                           int threads = 1);
+
+/** \brief Drop every entry of cachedSacModel's cache (thread-safe). Pointers handed out before
+ * stay valid; the next call for a model builds its features again. */
+void clearSacModelCache();
 
 /** \brief Outcome of one sample-consensus alignment. */
 enum class SacStatus {
@@ -153,9 +169,9 @@ SacResult sampleConsensusAlign(const IcfModel& model,
                                const Eigen::Vector3f& camera, const SacParams& params,
                                int threads = 1);
 
-/** \brief Scene keypoints, normals and FPFH as sampleConsensusAlign computes them (exposed for
- * pipelines that run PCL's aligners themselves). Keypoints with a non-finite normal or
- * descriptor are dropped. */
+/** \brief Scene keypoints, normals and FPFH as sampleConsensusAlign computes them, for pipelines
+ * that run PCL's aligners (or their own matching) on the same features. Keypoints with a
+ * non-finite normal or descriptor are dropped. */
 void computeSacSceneFeatures(const std::vector<Eigen::Vector3f>& scene_points,
                              const Eigen::Vector3f& camera, const SacParams& params, int threads,
                              pcl::PointCloud<pcl::PointNormal>& keypoints,

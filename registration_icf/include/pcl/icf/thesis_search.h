@@ -43,9 +43,8 @@ struct ThesisSearchParams {
  * and BestTransl kept as described. Scores with the thesis objective F (with its early exit).
  * Returns the best pose found; deterministic for a seed and any thread count. */
 PoseHypothesis thesisSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
-                            const ThesisSearchParams& params,
-                            const ThesisObjectiveParams& objective, std::uint64_t seed,
-                            int threads = 1);
+                            const ThesisSearchParams& params, const ObjectiveParams& objective,
+                            std::uint64_t seed, int threads = 1);
 
 }  // namespace icf
 }  // namespace pcl

@@ -8,89 +8,66 @@
 
 namespace pcl {
 namespace icf {
-namespace detail {
 
 template <typename Scalar>
-inline ClosestPointOnFace<Scalar> makeClosest(const Eigen::Matrix<Scalar, 3, 1>& p,
-                                              const Eigen::Matrix<Scalar, 3, 1>& c,
-                                              FaceFeature feature, int index) {
-  ClosestPointOnFace<Scalar> r;
-  r.point = c;
-  r.squared_distance = (p - c).squaredNorm();
-  r.feature = feature;
-  r.feature_index = index;
-  return r;
-}
-
-/** Closest point on edge k = [a, b] of a face, classified as edge or one of its end vertices.
- * \a ia, \a ib are the vertex indices of a and b within the face. */
-template <typename Scalar>
-inline ClosestPointOnFace<Scalar> closestOnEdge(const Eigen::Matrix<Scalar, 3, 1>& p,
-                                                const Eigen::Matrix<Scalar, 3, 1>& a,
-                                                const Eigen::Matrix<Scalar, 3, 1>& b, int edge,
-                                                int ia, int ib) {
+ClosestPointOnFace<Scalar> closestPointOnFaceEdge(const Eigen::Matrix<Scalar, 3, 1>& p,
+                                                  const Eigen::Matrix<Scalar, 3, 1>& a,
+                                                  const Eigen::Matrix<Scalar, 3, 1>& b, int edge,
+                                                  int ia, int ib) {
+  using Closest = ClosestPointOnFace<Scalar>;
   const Scalar t = closestParameterOnSegment(p, a, b);
   if (t <= Scalar(0))
-    return makeClosest(p, a, FaceFeature::Vertex, ia);
+    return Closest::at(p, a, FaceFeature::Vertex, ia);
   if (t >= Scalar(1))
-    return makeClosest(p, b, FaceFeature::Vertex, ib);
-  return makeClosest<Scalar>(p, a + t * (b - a), FaceFeature::Edge, edge);
+    return Closest::at(p, b, FaceFeature::Vertex, ib);
+  return Closest::at(p, a + t * (b - a), FaceFeature::Edge, edge);
 }
-
-template <typename Scalar>
-inline void keepCloser(ClosestPointOnFace<Scalar>& best,
-                       const ClosestPointOnFace<Scalar>& candidate) {
-  if (candidate.squared_distance < best.squared_distance)
-    best = candidate;
-}
-
-}  // namespace detail
 
 template <typename Scalar>
 ClosestPointOnFace<Scalar> closestPointOnTriangle(const Eigen::Matrix<Scalar, 3, 1>& p,
                                                   const Eigen::Matrix<Scalar, 3, 1>& a,
                                                   const Eigen::Matrix<Scalar, 3, 1>& b,
                                                   const Eigen::Matrix<Scalar, 3, 1>& c) {
-  using detail::makeClosest;
   using Vec = Eigen::Matrix<Scalar, 3, 1>;
+  using Closest = ClosestPointOnFace<Scalar>;
   const Vec ab = b - a, ac = c - a, ap = p - a;
   const Scalar d1 = ab.dot(ap), d2 = ac.dot(ap);
   if (d1 <= Scalar(0) && d2 <= Scalar(0))
-    return makeClosest(p, a, FaceFeature::Vertex, 0);
+    return Closest::at(p, a, FaceFeature::Vertex, 0);
 
   const Vec bp = p - b;
   const Scalar d3 = ab.dot(bp), d4 = ac.dot(bp);
   if (d3 >= Scalar(0) && d4 <= d3)
-    return makeClosest(p, b, FaceFeature::Vertex, 1);
+    return Closest::at(p, b, FaceFeature::Vertex, 1);
 
   const Vec cp = p - c;
   const Scalar d5 = ab.dot(cp), d6 = ac.dot(cp);
   if (d6 >= Scalar(0) && d5 <= d6)
-    return makeClosest(p, c, FaceFeature::Vertex, 2);
+    return Closest::at(p, c, FaceFeature::Vertex, 2);
 
   const Scalar vc = d1 * d4 - d3 * d2;
   if (vc <= Scalar(0) && d1 >= Scalar(0) && d3 <= Scalar(0) && d1 - d3 > Scalar(0))
-    return makeClosest<Scalar>(p, a + (d1 / (d1 - d3)) * ab, FaceFeature::Edge, 0);
+    return Closest::at(p, a + (d1 / (d1 - d3)) * ab, FaceFeature::Edge, 0);
 
   const Scalar vb = d5 * d2 - d1 * d6;
   if (vb <= Scalar(0) && d2 >= Scalar(0) && d6 <= Scalar(0) && d2 - d6 > Scalar(0))
-    return makeClosest<Scalar>(p, a + (d2 / (d2 - d6)) * ac, FaceFeature::Edge, 2);
+    return Closest::at(p, a + (d2 / (d2 - d6)) * ac, FaceFeature::Edge, 2);
 
   const Scalar va = d3 * d6 - d5 * d4;
   const Scalar e43 = d4 - d3, e56 = d5 - d6;
   if (va <= Scalar(0) && e43 >= Scalar(0) && e56 >= Scalar(0) && e43 + e56 > Scalar(0))
-    return makeClosest<Scalar>(p, b + (e43 / (e43 + e56)) * (c - b), FaceFeature::Edge, 1);
+    return Closest::at(p, b + (e43 / (e43 + e56)) * (c - b), FaceFeature::Edge, 1);
 
   const Scalar sum = va + vb + vc;
   if (!(sum > Scalar(0)) || !std::isfinite(sum)) {
     // Degenerate triangle: its points are its edges.
-    ClosestPointOnFace<Scalar> best = detail::closestOnEdge(p, a, b, 0, 0, 1);
-    detail::keepCloser(best, detail::closestOnEdge(p, b, c, 1, 1, 2));
-    detail::keepCloser(best, detail::closestOnEdge(p, c, a, 2, 2, 0));
+    Closest best = closestPointOnFaceEdge(p, a, b, 0, 0, 1);
+    best.keepCloser(closestPointOnFaceEdge(p, b, c, 1, 1, 2));
+    best.keepCloser(closestPointOnFaceEdge(p, c, a, 2, 2, 0));
     return best;
   }
   const Scalar v = vb / sum, w = vc / sum;
-  return makeClosest<Scalar>(p, a + v * ab + w * ac, FaceFeature::Interior, -1);
+  return Closest::at(p, a + v * ab + w * ac, FaceFeature::Interior, -1);
 }
 
 template <typename Scalar>
@@ -99,6 +76,7 @@ ClosestPointOnFace<Scalar> closestPointOnConvexPolygon(const Eigen::Matrix<Scala
                                                        int n,
                                                        const Eigen::Matrix<Scalar, 3, 1>& normal) {
   using Vec = Eigen::Matrix<Scalar, 3, 1>;
+  using Closest = ClosestPointOnFace<Scalar>;
   if (n == 3)
     return closestPointOnTriangle(p, vertices[0], vertices[1], vertices[2]);
   bool inside = true;
@@ -109,12 +87,12 @@ ClosestPointOnFace<Scalar> closestPointOnConvexPolygon(const Eigen::Matrix<Scala
   }
   if (inside) {
     const Vec c = p - normal.dot(p - vertices[0]) * normal;
-    return detail::makeClosest(p, c, FaceFeature::Interior, -1);
+    return Closest::at(p, c, FaceFeature::Interior, -1);
   }
   ClosestPointOnFace<Scalar> best;
   for (int k = 0; k < n; ++k)
-    detail::keepCloser(
-        best, detail::closestOnEdge(p, vertices[k], vertices[(k + 1) % n], k, k, (k + 1) % n));
+    best.keepCloser(
+        closestPointOnFaceEdge(p, vertices[k], vertices[(k + 1) % n], k, k, (k + 1) % n));
   return best;
 }
 
@@ -122,6 +100,7 @@ template <typename Scalar>
 ClosestPointOnFace<Scalar> closestPointOnRectangleThesis(
     const Eigen::Matrix<Scalar, 3, 1>& p, const Eigen::Matrix<Scalar, 3, 1>* corners) {
   using Vec = Eigen::Matrix<Scalar, 3, 1>;
+  using Closest = ClosestPointOnFace<Scalar>;
   const Vec normal = (corners[1] - corners[0]).cross(corners[3] - corners[0]).normalized();
   const Vec projected = p - normal.dot(p - corners[0]) * normal;  // P'
   // "The projection of P' belongs to segment AB if AP'.AB >= 0 and BP'.BA >= 0."
@@ -133,7 +112,7 @@ ClosestPointOnFace<Scalar> closestPointOnRectangleThesis(
     entered += projectionInside(corners[k], corners[(k + 1) % 4]) ? 0 : 1;
 
   if (entered == 0)
-    return detail::makeClosest(p, projected, FaceFeature::Interior, -1);
+    return Closest::at(p, projected, FaceFeature::Interior, -1);
   ClosestPointOnFace<Scalar> best;
   if (entered == 2) {
     // Regions 2, 4, 6, 8: d = sqrt(d(P, P')^2 + d(P', closest edge)^2). The closest edge is
@@ -144,14 +123,13 @@ ClosestPointOnFace<Scalar> closestPointOnRectangleThesis(
       if (!projectionInside(a, b))
         continue;
       const Scalar t = closestParameterOnSegment(projected, a, b);
-      detail::keepCloser(best,
-                         detail::makeClosest<Scalar>(p, a + t * (b - a), FaceFeature::Edge, k));
+      best.keepCloser(Closest::at(p, a + t * (b - a), FaceFeature::Edge, k));
     }
     return best;
   }
   // Regions 1, 3, 5, 7: d = sqrt(d(P, P')^2 + d(P', closest vertex)^2).
   for (int k = 0; k < 4; ++k)
-    detail::keepCloser(best, detail::makeClosest(p, corners[k], FaceFeature::Vertex, k));
+    best.keepCloser(Closest::at(p, corners[k], FaceFeature::Vertex, k));
   return best;
 }
 

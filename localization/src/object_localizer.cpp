@@ -78,7 +78,8 @@ void LocalizerParams::validate() const {
     fail("max_shared_points", max_shared_points, "must lie in [0, 1)");
   alternatives.validate();
   if (camera_pose)
-    validateRigidTransform(camera_pose->matrix().cast<double>(), "LocalizerParams::camera_pose");
+    validateRigidTransform(camera_pose->matrix().cast<double>(),
+                           "[pcl::icf::localization::LocalizerParams::validate] camera_pose");
 }
 
 namespace {
@@ -357,7 +358,7 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
   c.verification = explainDepth(rendered, image, 2.f * model.radius(), params.verification);
   c.explained = explainedPoints(view, indices, model, Eigen::Isometry3f(c.icf.scene_to_model),
                                 params.verification);
-  if (params.thesis_gate) {
+  if (params.far_point_gate) {
     c.gate_far_points = gateFarPoints(points, model, Eigen::Isometry3f(c.icf.scene_to_model),
                                       rendered, image, params, single_object);
     const double allowed =

@@ -104,7 +104,7 @@ FieldTable<localization::LocalizerParams> localizerTable() {
   t["max_instances"] = PCL_ICF_FIELD(P, int, max_instances);
   t["max_shared_points"] = PCL_ICF_FIELD(P, double, max_shared_points);
   t["min_points_in_front"] = PCL_ICF_FIELD(P, double, min_points_in_front);
-  t["thesis_gate"] = PCL_ICF_FIELD(P, bool, thesis_gate);
+  t["far_point_gate"] = PCL_ICF_FIELD(P, bool, far_point_gate);
   t["gate_distance"] = PCL_ICF_FIELD(P, float, gate_distance);
   t["gate_max_far_points"] = PCL_ICF_FIELD(P, int, gate_max_far_points);
   t["gate_max_far_fraction"] = PCL_ICF_FIELD(P, double, gate_max_far_fraction);

@@ -169,10 +169,10 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
       p.gate_max_far_points = static_cast<int>(parseInteger(a, args.value(a), 0, 100000000));
     else if (a == "--no-gate") {
       args.noValue(a);
-      p.thesis_gate = false;
+      p.far_point_gate = false;
     } else if (a == "--gate") {
       args.noValue(a);
-      p.thesis_gate = true;
+      p.far_point_gate = true;
     } else if (a == "--min-confidence")
       p.min_confidence = parseFraction(a, args.value(a));
     else if (a == "--max-instances")

@@ -76,13 +76,13 @@ struct LocalizerParams {
    * a target touching an explained neighbour is searched on its own points. Each must index
    * the scene. */
   std::vector<int> explained_indices;
-  /** The thesis's gate (section 6.2), off by default (the verification decides): a cluster is
-   * rejected when more than max(gate_max_far_points, gate_max_far_fraction x its size) of the
-   * points the posed model claims lie farther than gate_distance from its closest face. A
-   * cluster of one object (compact, or a convexity segment) is counted whole, as in the
-   * thesis; in a merged cluster only the points inside the rendered model's silhouette and
-   * behind its surface count. */
-  bool thesis_gate = false;
+  /** The far-point gate, off by default (the verification decides): a cluster is rejected when
+   * more than max(gate_max_far_points, gate_max_far_fraction x its size) of the points the
+   * posed model claims lie farther than gate_distance from its closest face. It is the ICF
+   * thesis's acceptance test (Armenise, KTH 2013, section 6.2). A cluster of one object
+   * (compact, or a convexity segment) is counted whole, as in the thesis; in a merged cluster
+   * only the points inside the rendered model's silhouette and behind its surface count. */
+  bool far_point_gate = false;
   float gate_distance = 0.027f;  ///< 27 mm
   int gate_max_far_points = 5;   ///< "more than 5 points"
   /** Ours: the thesis's clusters had a few hundred points after its voxel filter; a
@@ -151,7 +151,7 @@ struct ClusterLocalization {
   /** Ranking score: the verification's confidence x (colour similarity ^ weight), comparable
    * across clusters of any size (doc/localizer.md). */
   double score = 0.0;
-  bool single_object = true;  ///< judged as one object's points (see thesis_gate)
+  bool single_object = true;  ///< judged as one object's points (see far_point_gate)
   bool accepted = false;      ///< confidence >= min_confidence (and the gate, when on)
   /** Poses as good as this one (within alternatives.confidence_margin of its confidence) that
    * differ from it by a turn: the depth cannot decide between them (a box's flip, a can's

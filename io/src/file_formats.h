@@ -12,6 +12,10 @@
 // These readers check every size against the bytes actually present, never allocate more
 // than the file can hold, and throw FileError naming the file (and the line, for text) and
 // the reason. doc/HOSTILE_INPUTS.md lists the inputs tried.
+//
+// Each format has one header parser, in its reader's source, used by every path that reads the
+// format (loadSceneCloud and loadPolygonMesh alike): a file gets the same message whichever
+// loader reads it. Field values are decoded by pcl_icf_internal/point_field.h.
 #pragma once
 
 #include <pcl/PCLPointCloud2.h>
@@ -97,7 +101,8 @@ pcl::PolygonMesh readObjFile(const std::string& path);
 pcl::PolygonMesh readStlFile(const std::string& path);
 
 /** Reads a PCD file (ascii, binary or binary_compressed) into a PCLPointCloud2, as PCL's
- * reader would, with a strict header: printable ASCII lines (comments excepted); FIELDS, SIZE,
+ * reader would, with a strict header that ends at the first line starting with DATA (none in
+ * the first 64 KiB: "not a PCD file"): printable ASCII lines (comments excepted); FIELDS, SIZE,
  * TYPE [, COUNT] with one entry per field; TYPE I or U with SIZE 1, 2 or 4, F with 4 or 8;
  * COUNT >= 1;
  * WIDTH x HEIGHT = POINTS at most \a max_points; DATA ascii, binary or binary_compressed.

@@ -104,11 +104,19 @@ void checkElementCount(const std::string& path, std::size_t count, const char* w
                     ", more than this reader accepts");
 }
 
-pcl::PolygonMesh readBinaryStl(const std::string& path, const std::string& data) {
+/** The binary STL header: an 80-byte comment, then the triangle count (little-endian uint32);
+ * false when the file is shorter than 84 bytes. */
+bool binaryStlHeader(const std::string& data, std::uint32_t& triangles) {
   if (data.size() < 84)
-    throw FileError(path + ": binary STL shorter than its 84-byte header (truncated file)");
-  std::uint32_t triangles;
+    return false;
   std::memcpy(&triangles, data.data() + 80, 4);
+  return true;
+}
+
+pcl::PolygonMesh readBinaryStl(const std::string& path, const std::string& data) {
+  std::uint32_t triangles;
+  if (!binaryStlHeader(data, triangles))
+    throw FileError(path + ": binary STL shorter than its 84-byte header (truncated file)");
   if (triangles > (data.size() - 84) / 50)
     throw FileError(path + ": binary STL claims " + std::to_string(triangles) +
                     " triangles but holds " + std::to_string((data.size() - 84) / 50) +
@@ -211,12 +219,9 @@ pcl::PolygonMesh readStlFile(const std::string& path) {
   const std::string data = readWholeFile(path);
   // A binary file whose size matches its triangle count is binary, whatever its first bytes
   // (some exporters start the 80-byte header with "solid" too).
-  if (data.size() >= 84) {
-    std::uint32_t triangles;
-    std::memcpy(&triangles, data.data() + 80, 4);
-    if (data.size() == 84 + 50 * std::uint64_t(triangles))
-      return readBinaryStl(path, data);
-  }
+  std::uint32_t triangles;
+  if (binaryStlHeader(data, triangles) && data.size() == 84 + 50 * std::uint64_t(triangles))
+    return readBinaryStl(path, data);
   const std::size_t first = data.find_first_not_of(" \t\r\n");
   if (first != std::string::npos && data.compare(first, 5, "solid") == 0)
     return readAsciiStl(path, data);

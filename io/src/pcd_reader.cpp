@@ -6,12 +6,12 @@
 
 #include <pcl/icf/io/mesh_io.h>
 #include <pcl/io/lzf.h>
+#include <pcl_icf_internal/point_field.h>
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 
 namespace pcl {
 namespace icf {
@@ -45,30 +45,26 @@ std::uint8_t pclType(char type, int size) {
   }
 }
 
+/** A float of \a size 4 or 8 bytes stored at \a out; beyond the type's range: +-inf. */
+template <typename T>
+bool parseAsciiFloat(const char* begin, const char* end, std::uint8_t* out) {
+  T v;
+  const auto [ptr, ec] = std::from_chars(begin, end, v);
+  if (ec == std::errc::result_out_of_range && ptr == end)
+    v = *begin == '-' ? -INFINITY : INFINITY;
+  else if (ec != std::errc() || ptr != end)
+    return false;
+  std::memcpy(out, &v, sizeof v);
+  return true;
+}
+
 /** One ascii value of a field of type \a type and \a size, stored at \a out. */
 bool parseAscii(const char* begin, const char* end, char type, int size, std::uint8_t* out) {
   if (end - begin > 1 && *begin == '+')
     ++begin;
-  if (type == 'F') {
-    if (size == 4) {
-      float v;
-      const auto [ptr, ec] = std::from_chars(begin, end, v);
-      if (ec == std::errc::result_out_of_range && ptr == end)
-        v = *begin == '-' ? -INFINITY : INFINITY;
-      else if (ec != std::errc() || ptr != end)
-        return false;
-      std::memcpy(out, &v, 4);
-      return true;
-    }
-    double v;
-    const auto [ptr, ec] = std::from_chars(begin, end, v);
-    if (ec == std::errc::result_out_of_range && ptr == end)
-      v = *begin == '-' ? -INFINITY : INFINITY;
-    else if (ec != std::errc() || ptr != end)
-      return false;
-    std::memcpy(out, &v, 8);
-    return true;
-  }
+  if (type == 'F')
+    return size == 4 ? parseAsciiFloat<float>(begin, end, out)
+                     : parseAsciiFloat<double>(begin, end, out);
   // Integers: PCL writes them as integers; a value out of the type's range is an error.
   long long v;
   const auto [ptr, ec] = std::from_chars(begin, end, v);
@@ -79,27 +75,7 @@ bool parseAscii(const char* begin, const char* end, char type, int size, std::ui
   const long long hi = type == 'I' ? (1LL << (bits - 1)) - 1 : (1LL << bits) - 1;
   if (v < lo || v > hi)
     return false;
-  if (type == 'I') {
-    const auto x = static_cast<std::int64_t>(v);
-    const std::int8_t b8 = static_cast<std::int8_t>(x);
-    const std::int16_t b16 = static_cast<std::int16_t>(x);
-    const std::int32_t b32 = static_cast<std::int32_t>(x);
-    std::memcpy(out,
-                size == 1   ? static_cast<const void*>(&b8)
-                : size == 2 ? static_cast<const void*>(&b16)
-                            : static_cast<const void*>(&b32),
-                static_cast<std::size_t>(size));
-  } else {
-    const auto x = static_cast<std::uint64_t>(v);
-    const std::uint8_t b8 = static_cast<std::uint8_t>(x);
-    const std::uint16_t b16 = static_cast<std::uint16_t>(x);
-    const std::uint32_t b32 = static_cast<std::uint32_t>(x);
-    std::memcpy(out,
-                size == 1   ? static_cast<const void*>(&b8)
-                : size == 2 ? static_cast<const void*>(&b16)
-                            : static_cast<const void*>(&b32),
-                static_cast<std::size_t>(size));
-  }
+  internal::writeFieldValue(static_cast<double>(v), pclType(type, size), out);
   return true;
 }
 
@@ -111,83 +87,62 @@ struct Field {
   std::uint32_t offset = 0;
 };
 
-}  // namespace
-
-void readPcdFile(const std::string& path, std::uint64_t max_points, pcl::PCLPointCloud2& cloud,
-                 Eigen::Vector4f& origin, Eigen::Quaternionf& orientation) {
-  std::ifstream in(path, std::ios::binary);
-  const std::string file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in.eof() && in.fail())
-    throw FileError(path + ": read error");
-
-  // ---- Header: line by line up to and including DATA.
-  std::vector<std::string> fields, sizes, types, counts;
-  bool has_width = false, has_height = false, has_points = false, has_data = false;
+/** What a PCD header says, checked: the point layout, the size, the data's encoding. */
+struct PcdHeader {
+  std::vector<Field> layout;
   std::uint64_t width = 0, height = 0, points = 0;
-  std::string data;
-  origin = Eigen::Vector4f::Zero();
-  orientation = Eigen::Quaternionf::Identity();
-  std::size_t pos = 0, line_number = 0;
-  while (!has_data) {
+  std::uint64_t point_step = 0, values_per_point = 0;
+  std::string data;  ///< "ascii", "binary" or "binary_compressed"
+  Eigen::Vector4f origin = Eigen::Vector4f::Zero();
+  Eigen::Quaternionf orientation = Eigen::Quaternionf::Identity();
+  std::size_t body = 0;  ///< offset of the first byte after the DATA line
+};
+
+/** The header's lines as they are written (one entry per line, comments and blank lines too, so
+ * that messages give the line's number), up to and including the DATA line, which must start
+ * in the first 64 KiB. \throws FileError "not a PCD file" when there is no DATA line. */
+std::vector<std::string> pcdHeaderLines(const std::string& file, const std::string& path,
+                                        std::size_t& body) {
+  std::vector<std::string> lines;
+  std::size_t pos = 0;
+  while (true) {
     const std::size_t eol = file.find('\n', pos);
     if (pos >= kMaxHeaderBytes || pos >= file.size() ||
         (eol == std::string::npos && file.size() - pos > kMaxHeaderBytes))
       throw FileError(path + ": not a PCD file (no DATA line in its header)");
     const std::size_t stop = eol == std::string::npos ? file.size() : eol;
-    const std::string line = file.substr(pos, stop - pos);
+    lines.push_back(file.substr(pos, stop - pos));
     pos = stop + 1;
-    ++line_number;
-    const std::string where =
-        path + ": PCD header line " + std::to_string(line_number) + " '" + printable(line) + "' ";
-    const std::size_t first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#')
-      continue;  // a comment may hold any text (UTF-8 names, say)
-    for (const char c : line)
-      if (!((c >= 32 && c < 127) || c == '\t' || c == '\r'))
-        throw FileError(where + "has a byte that is not printable text (malformed PCD file)");
-    const auto words = splitWords(line);
-    if (words[0] == "VERSION")
-      continue;
-    const std::string& key = words[0];
-    const std::vector<std::string> rest(words.begin() + 1, words.end());
-    if (key == "FIELDS" || key == "COLUMNS") {
-      if (rest.empty() || !fields.empty())
-        throw FileError(where + "(FIELDS: one or more names, once)");
-      fields = rest;
-    } else if (key == "SIZE" || key == "TYPE" || key == "COUNT") {
-      std::vector<std::string>& target = key == "SIZE" ? sizes : key == "TYPE" ? types : counts;
-      if (fields.empty() || rest.size() != fields.size() || !target.empty())
-        throw FileError(where + "(" + key + ": one entry per field, after FIELDS, once)");
-      target = rest;
-    } else if (key == "WIDTH" || key == "HEIGHT" || key == "POINTS") {
-      std::uint64_t v = 0;
-      if (rest.size() != 1 || !parseNumber(rest[0], v))
-        throw FileError(where + "(" + key + ": one non-negative integer)");
-      (key == "WIDTH" ? width : key == "HEIGHT" ? height : points) = v;
-      (key == "WIDTH" ? has_width : key == "HEIGHT" ? has_height : has_points) = true;
-    } else if (key == "VIEWPOINT") {
-      float v[7];
-      bool ok = rest.size() == 7;
-      for (std::size_t i = 0; ok && i < 7; ++i)
-        ok = parseNumber(rest[i], v[i]);
-      if (!ok)
-        throw FileError(where + "(VIEWPOINT: 7 numbers, tx ty tz qw qx qy qz)");
-      origin = Eigen::Vector4f(v[0], v[1], v[2], 0.f);
-      orientation = Eigen::Quaternionf(v[3], v[4], v[5], v[6]);
-    } else if (key == "DATA") {
-      if (rest.size() != 1)
-        throw FileError(where + "(DATA: ascii, binary or binary_compressed)");
-      data = rest[0];
-      has_data = true;
-    } else
-      throw FileError(where + "is not a PCD header line (malformed PCD file)");
+    // The first line that starts with DATA ends the header, as PCL writes it (a misspelt
+    // "DATA9ascii" too, so that the line parser names it rather than reading on into the data).
+    if (lines.back().compare(0, 4, "DATA") == 0) {
+      body = pos;
+      return lines;
+    }
   }
-  if (data != "ascii" && data != "binary" && data != "binary_compressed")
-    throw FileError(path + ": PCD header has an unknown DATA type '" + printable(data) + "'");
+}
+
+/** Stores \a rest as the entries of a FIELDS, SIZE, TYPE or COUNT line. */
+void pcdListLine(const std::string& key, const std::vector<std::string>& rest,
+                 const std::string& where, std::vector<std::string> (&lists)[4]) {
+  std::vector<std::string>& fields = lists[0];
+  if (key == "FIELDS" || key == "COLUMNS") {
+    if (rest.empty() || !fields.empty())
+      throw FileError(where + "(FIELDS: one or more names, once)");
+    fields = rest;
+    return;
+  }
+  std::vector<std::string>& target = lists[key == "SIZE" ? 1 : key == "TYPE" ? 2 : 3];
+  if (fields.empty() || rest.size() != fields.size() || !target.empty())
+    throw FileError(where + "(" + key + ": one entry per field, after FIELDS, once)");
+  target = rest;
+}
+
+/** The field layout of FIELDS, SIZE, TYPE [, COUNT]: offsets, PCL types, the point's size. */
+void pcdLayout(const std::vector<std::string> (&lists)[4], const std::string& path, PcdHeader& h) {
+  const auto& [fields, sizes, types, counts] = lists;
   if (fields.empty() || sizes.empty() || types.empty())
     throw FileError(path + ": PCD header lacks a FIELDS, SIZE or TYPE line (malformed PCD file)");
-  std::vector<Field> layout;
-  std::uint64_t point_step = 0, values_per_point = 0;
   for (std::size_t i = 0; i < fields.size(); ++i) {
     Field f;
     f.name = fields[i];
@@ -206,41 +161,106 @@ void readPcdFile(const std::string& path, std::uint64_t max_points, pcl::PCLPoin
     f.type = types[i][0];
     f.size = sizes[i][0] - '0';
     f.count = static_cast<std::uint32_t>(count);
-    f.offset = static_cast<std::uint32_t>(point_step);
-    point_step += count * static_cast<std::uint64_t>(f.size);
-    values_per_point += count;
-    if (point_step > kMaxPointBytes)
+    f.offset = static_cast<std::uint32_t>(h.point_step);
+    h.point_step += count * static_cast<std::uint64_t>(f.size);
+    h.values_per_point += count;
+    if (h.point_step > kMaxPointBytes)
       throw FileError(path + ": PCD points of more than " + std::to_string(kMaxPointBytes) +
                       " bytes, more than this reader accepts");
-    layout.push_back(f);
+    h.layout.push_back(f);
   }
+}
+
+/** WIDTH x HEIGHT = POINTS, within \a max_points and rows of at most 4 GiB. */
+void pcdSize(bool has_width, bool has_height, bool has_points, std::uint64_t max_points,
+             const std::string& path, PcdHeader& h) {
   if (!has_points || (!has_width && has_height))
     throw FileError(path + ": PCD header lacks POINTS or WIDTH (malformed PCD file)");
   if (!has_width)
-    width = points;
+    h.width = h.points;
   if (!has_height)
-    height = 1;
-  if (width > max_points || height > max_points || points > max_points)
-    throw FileError(path + ": header claims " + std::to_string(std::max({width, height, points})) +
-                    " points, more than the " + std::to_string(max_points) +
-                    " this reader accepts");
-  if (width * height != points)
-    throw FileError(path + ": PCD header's WIDTH " + std::to_string(width) + " x HEIGHT " +
-                    std::to_string(height) + " differs from its POINTS " + std::to_string(points) +
-                    " (malformed PCD file)");
-  const std::uint64_t bytes = points * point_step;
-  if (width * point_step > 0xffffffffu)
+    h.height = 1;
+  if (h.width > max_points || h.height > max_points || h.points > max_points)
+    throw FileError(
+        path + ": header claims " + std::to_string(std::max({h.width, h.height, h.points})) +
+        " points, more than the " + std::to_string(max_points) + " this reader accepts");
+  if (h.width * h.height != h.points)
+    throw FileError(path + ": PCD header's WIDTH " + std::to_string(h.width) + " x HEIGHT " +
+                    std::to_string(h.height) + " differs from its POINTS " +
+                    std::to_string(h.points) + " (malformed PCD file)");
+  if (h.width * h.point_step > 0xffffffffu)
     throw FileError(path + ": PCD rows of more than 4 GiB, more than this reader accepts");
+}
 
-  // ---- Body: checked against the header before anything is allocated.
-  const std::uint64_t body = file.size() - std::min(pos, file.size());
-  const char* start = file.data() + std::min(pos, file.size());
-  if (data == "binary" && body < bytes)
+/** The one PCD header parser: printable ASCII lines (comments excepted), each a known keyword
+ * with well-formed values, then the layout and the size checked (file_formats.h's readPcdFile
+ * lists the rules). */
+PcdHeader parsePcdHeader(const std::string& file, const std::string& path,
+                         std::uint64_t max_points) {
+  PcdHeader h;
+  const std::vector<std::string> lines = pcdHeaderLines(file, path, h.body);
+  std::vector<std::string> lists[4];    // FIELDS, SIZE, TYPE, COUNT
+  bool has[3] = {false, false, false};  // WIDTH, HEIGHT, POINTS
+  for (std::size_t n = 0; n < lines.size(); ++n) {
+    const std::string& line = lines[n];
+    const std::string where =
+        path + ": PCD header line " + std::to_string(n + 1) + " '" + printable(line) + "' ";
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#')
+      continue;  // a comment may hold any text (UTF-8 names, say)
+    for (const char c : line)
+      if (!((c >= 32 && c < 127) || c == '\t' || c == '\r'))
+        throw FileError(where + "has a byte that is not printable text (malformed PCD file)");
+    const auto words = splitWords(line);
+    const std::string& key = words[0];
+    const std::vector<std::string> rest(words.begin() + 1, words.end());
+    if (key == "VERSION")
+      continue;
+    if (key == "FIELDS" || key == "COLUMNS" || key == "SIZE" || key == "TYPE" || key == "COUNT") {
+      pcdListLine(key, rest, where, lists);
+    } else if (key == "WIDTH" || key == "HEIGHT" || key == "POINTS") {
+      const int k = key == "WIDTH" ? 0 : key == "HEIGHT" ? 1 : 2;
+      if (rest.size() != 1 || !parseNumber(rest[0], k == 0   ? h.width
+                                                    : k == 1 ? h.height
+                                                             : h.points))
+        throw FileError(where + "(" + key + ": one non-negative integer)");
+      has[k] = true;
+    } else if (key == "VIEWPOINT") {
+      float v[7];
+      bool ok = rest.size() == 7;
+      for (std::size_t i = 0; ok && i < 7; ++i)
+        ok = parseNumber(rest[i], v[i]);
+      if (!ok)
+        throw FileError(where + "(VIEWPOINT: 7 numbers, tx ty tz qw qx qy qz)");
+      h.origin = Eigen::Vector4f(v[0], v[1], v[2], 0.f);
+      h.orientation = Eigen::Quaternionf(v[3], v[4], v[5], v[6]);
+    } else if (key == "DATA") {
+      if (rest.size() != 1)
+        throw FileError(where + "(DATA: ascii, binary or binary_compressed)");
+      h.data = rest[0];
+    } else
+      throw FileError(where + "is not a PCD header line (malformed PCD file)");
+  }
+  if (h.data != "ascii" && h.data != "binary" && h.data != "binary_compressed")
+    throw FileError(path + ": PCD header has an unknown DATA type '" + printable(h.data) + "'");
+  pcdLayout(lists, path, h);
+  pcdSize(has[0], has[1], has[2], max_points, path, h);
+  return h;
+}
+
+/** The body checked against the header before anything is allocated: binary data as long as
+ * the points need, compressed sizes that the file and the points agree with, ascii text with
+ * room for enough numbers. \a compressed, \a uncompressed: binary_compressed's size words. */
+void checkPcdBody(const PcdHeader& h, const std::string& file, const std::string& path,
+                  std::uint32_t& compressed, std::uint32_t& uncompressed) {
+  const std::uint64_t bytes = h.points * h.point_step;
+  const std::uint64_t body = file.size() - std::min(h.body, file.size());
+  const char* start = file.data() + std::min(h.body, file.size());
+  if (h.data == "binary" && body < bytes)
     throw FileError(path + ": binary PCD data is " + std::to_string(body) + " bytes, its " +
-                    std::to_string(points) + " points need " + std::to_string(bytes) +
+                    std::to_string(h.points) + " points need " + std::to_string(bytes) +
                     " (truncated file)");
-  std::uint32_t compressed = 0, uncompressed = 0;
-  if (data == "binary_compressed") {
+  if (h.data == "binary_compressed") {
     if (body < 8)
       throw FileError(path + ": compressed PCD data has no size words (truncated file)");
     std::memcpy(&compressed, start, 4);
@@ -250,20 +270,23 @@ void readPcdFile(const std::string& path, std::uint64_t max_points, pcl::PCLPoin
                       " bytes, the file holds " + std::to_string(body - 8) + " (truncated file)");
     if (uncompressed != bytes)
       throw FileError(path + ": compressed PCD data unpacks to " + std::to_string(uncompressed) +
-                      " bytes, its " + std::to_string(points) + " points need " +
+                      " bytes, its " + std::to_string(h.points) + " points need " +
                       std::to_string(bytes) + " (malformed PCD file)");
     if (bytes > kMaxLzfRatio * compressed + 64)
       throw FileError(path + ": " + std::to_string(compressed) + " compressed bytes cannot hold " +
-                      std::to_string(points) + " points of " + std::to_string(point_step) +
+                      std::to_string(h.points) + " points of " + std::to_string(h.point_step) +
                       " bytes (truncated file or a lying header)");
   }
-  if (data == "ascii" && points * values_per_point > (body + 1) / 2)
+  if (h.data == "ascii" && h.points * h.values_per_point > (body + 1) / 2)
     throw FileError(path + ": ascii PCD data of " + std::to_string(body) + " bytes cannot hold " +
-                    std::to_string(points) + " points of " + std::to_string(values_per_point) +
+                    std::to_string(h.points) + " points of " + std::to_string(h.values_per_point) +
                     " numbers (truncated file or a lying header)");
+}
 
+/** An empty cloud of the header's layout and size (data allocated, zero). */
+void allocatePcdCloud(const PcdHeader& h, pcl::PCLPointCloud2& cloud) {
   cloud = pcl::PCLPointCloud2();
-  for (const Field& f : layout) {
+  for (const Field& f : h.layout) {
     pcl::PCLPointField pf;
     pf.name = f.name;
     pf.offset = f.offset;
@@ -271,46 +294,44 @@ void readPcdFile(const std::string& path, std::uint64_t max_points, pcl::PCLPoin
     pf.count = f.count;
     cloud.fields.push_back(pf);
   }
-  cloud.width = static_cast<std::uint32_t>(width);
-  cloud.height = static_cast<std::uint32_t>(height);
-  cloud.point_step = static_cast<std::uint32_t>(point_step);
-  cloud.row_step = static_cast<std::uint32_t>(width * point_step);
+  cloud.width = static_cast<std::uint32_t>(h.width);
+  cloud.height = static_cast<std::uint32_t>(h.height);
+  cloud.point_step = static_cast<std::uint32_t>(h.point_step);
+  cloud.row_step = static_cast<std::uint32_t>(h.width * h.point_step);
   cloud.is_bigendian = false;
   cloud.is_dense = false;
-  cloud.data.resize(static_cast<std::size_t>(bytes));
-  if (bytes == 0)
-    return;
+  cloud.data.resize(static_cast<std::size_t>(h.points * h.point_step));
+}
 
-  if (data == "binary") {
-    std::memcpy(cloud.data.data(), start, static_cast<std::size_t>(bytes));
-    return;
+/** binary_compressed: LZF of every field's values for all points in turn (structure of arrays,
+ * PCL's layout), unpacked into PCL's point after point. */
+void readPcdCompressed(const PcdHeader& h, const char* start, std::uint32_t compressed,
+                       const std::string& path, pcl::PCLPointCloud2& cloud) {
+  const std::size_t bytes = cloud.data.size();
+  std::vector<char> soa(bytes);
+  const unsigned int got =
+      pcl::lzfDecompress(start + 8, compressed, soa.data(), static_cast<unsigned int>(bytes));
+  if (got != bytes)
+    throw FileError(path + ": compressed PCD data does not unpack to its " + std::to_string(bytes) +
+                    " bytes (corrupt or truncated file)");
+  std::size_t offset = 0;
+  for (const Field& f : h.layout) {
+    const std::size_t field_bytes = static_cast<std::size_t>(f.size) * f.count;
+    for (std::uint64_t i = 0; i < h.points; ++i)
+      std::memcpy(cloud.data.data() + i * h.point_step + f.offset,
+                  soa.data() + offset + i * field_bytes, field_bytes);
+    offset += static_cast<std::size_t>(h.points) * field_bytes;
   }
-  if (data == "binary_compressed") {
-    // PCL's layout: every field's values for all points in turn (structure of arrays).
-    std::vector<char> soa(static_cast<std::size_t>(bytes));
-    const unsigned int got =
-        pcl::lzfDecompress(start + 8, compressed, soa.data(), static_cast<unsigned int>(bytes));
-    if (got != bytes)
-      throw FileError(path + ": compressed PCD data does not unpack to its " +
-                      std::to_string(bytes) + " bytes (corrupt or truncated file)");
-    std::size_t offset = 0;
-    for (const Field& f : layout) {
-      const std::size_t field_bytes = static_cast<std::size_t>(f.size) * f.count;
-      for (std::uint64_t i = 0; i < points; ++i)
-        std::memcpy(cloud.data.data() + i * point_step + f.offset,
-                    soa.data() + offset + i * field_bytes, field_bytes);
-      offset += static_cast<std::size_t>(points) * field_bytes;
-    }
-    return;
-  }
-  // ascii: whitespace-separated numbers, point after point ("nan" for a float is NaN).
-  const char* p = start;
-  const char* end = file.data() + file.size();
+}
+
+/** ascii: whitespace-separated numbers, point after point ("nan" for a float is NaN). */
+void readPcdAscii(const PcdHeader& h, const char* p, const char* end, const std::string& path,
+                  pcl::PCLPointCloud2& cloud) {
   auto space = [](char c) {
     return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
   };
-  for (std::uint64_t i = 0; i < points; ++i)
-    for (const Field& f : layout)
+  for (std::uint64_t i = 0; i < h.points; ++i)
+    for (const Field& f : h.layout)
       for (std::uint32_t k = 0; k < f.count; ++k) {
         while (p < end && space(*p))
           ++p;
@@ -319,14 +340,38 @@ void readPcdFile(const std::string& path, std::uint64_t max_points, pcl::PCLPoin
           ++p;
         if (token == p)
           throw FileError(path + ": ascii PCD data ends at point " + std::to_string(i) + " of " +
-                          std::to_string(points) + " (truncated file)");
+                          std::to_string(h.points) + " (truncated file)");
         if (!parseAscii(token, p, f.type, f.size,
-                        cloud.data.data() + i * point_step + f.offset + k * f.size))
+                        cloud.data.data() + i * h.point_step + f.offset + k * f.size))
           throw FileError(path + ": '" + printable(std::string(token, p)) + "' at point " +
                           std::to_string(i) + " is not a value of field '" + printable(f.name) +
                           "' (" + std::string(1, f.type) + std::to_string(f.size) +
                           "; malformed PCD file)");
       }
+}
+
+}  // namespace
+
+void readPcdFile(const std::string& path, std::uint64_t max_points, pcl::PCLPointCloud2& cloud,
+                 Eigen::Vector4f& origin, Eigen::Quaternionf& orientation) {
+  const std::string file = readWholeFile(path);
+  origin = Eigen::Vector4f::Zero();
+  orientation = Eigen::Quaternionf::Identity();
+  const PcdHeader header = parsePcdHeader(file, path, max_points);
+  origin = header.origin;
+  orientation = header.orientation;
+  std::uint32_t compressed = 0, uncompressed = 0;
+  checkPcdBody(header, file, path, compressed, uncompressed);
+  allocatePcdCloud(header, cloud);
+  if (cloud.data.empty())
+    return;
+  const char* start = file.data() + std::min(header.body, file.size());
+  if (header.data == "binary")
+    std::memcpy(cloud.data.data(), start, cloud.data.size());
+  else if (header.data == "binary_compressed")
+    readPcdCompressed(header, start, compressed, path, cloud);
+  else
+    readPcdAscii(header, start, file.data() + file.size(), path, cloud);
 }
 
 }  // namespace detail

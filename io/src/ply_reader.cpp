@@ -4,7 +4,9 @@
  */
 #include "file_formats.h"
 
+#include <pcl/common/io.h>
 #include <pcl/icf/io/mesh_io.h>
+#include <pcl_icf_internal/point_field.h>
 
 #include <algorithm>
 #include <charconv>
@@ -19,14 +21,15 @@ namespace io {
 namespace detail {
 namespace {
 
-enum class Scalar : std::uint8_t { I8, U8, I16, U16, I32, U32, F32, F64 };
+/** A PLY scalar type, as the pcl::PCLPointField datatype of the same C++ type. */
+using Scalar = std::uint8_t;
 enum class Format { Ascii, BinaryLittle, BinaryBig };
 
 struct Property {
   std::string name;
-  Scalar type = Scalar::F32;
+  Scalar type = pcl::PCLPointField::FLOAT32;
   bool list = false;
-  Scalar count_type = Scalar::U8;
+  Scalar count_type = pcl::PCLPointField::UINT8;
 };
 
 struct Element {
@@ -38,32 +41,22 @@ struct Element {
 constexpr std::size_t kMaxHeaderBytes = 65536;
 
 std::size_t scalarSize(Scalar t) {
-  switch (t) {
-    case Scalar::I8:
-    case Scalar::U8:
-      return 1;
-    case Scalar::I16:
-    case Scalar::U16:
-      return 2;
-    case Scalar::F64:
-      return 8;
-    default:
-      return 4;
-  }
+  return static_cast<std::size_t>(pcl::getFieldSize(t));
 }
 
 bool isInteger(Scalar t) {
-  return t != Scalar::F32 && t != Scalar::F64;
+  return t != pcl::PCLPointField::FLOAT32 && t != pcl::PCLPointField::FLOAT64;
 }
 
 bool parseScalar(const std::string& name, Scalar& t) {
+  using F = pcl::PCLPointField;
   static const std::pair<const char*, Scalar> names[] = {
-      {"char", Scalar::I8},    {"int8", Scalar::I8},     {"uchar", Scalar::U8},
-      {"uint8", Scalar::U8},   {"short", Scalar::I16},   {"int16", Scalar::I16},
-      {"ushort", Scalar::U16}, {"uint16", Scalar::U16},  {"int", Scalar::I32},
-      {"int32", Scalar::I32},  {"uint", Scalar::U32},    {"uint32", Scalar::U32},
-      {"float", Scalar::F32},  {"float32", Scalar::F32}, {"double", Scalar::F64},
-      {"float64", Scalar::F64}};
+      {"char", F::INT8},      {"int8", F::INT8},       {"uchar", F::UINT8},
+      {"uint8", F::UINT8},    {"short", F::INT16},     {"int16", F::INT16},
+      {"ushort", F::UINT16},  {"uint16", F::UINT16},   {"int", F::INT32},
+      {"int32", F::INT32},    {"uint", F::UINT32},     {"uint32", F::UINT32},
+      {"float", F::FLOAT32},  {"float32", F::FLOAT32}, {"double", F::FLOAT64},
+      {"float64", F::FLOAT64}};
   for (const auto& n : names)
     if (name == n.first) {
       t = n.second;
@@ -72,43 +65,22 @@ bool parseScalar(const std::string& name, Scalar& t) {
   return false;
 }
 
-std::uint8_t pclType(Scalar t) {
-  switch (t) {
-    case Scalar::I8:
-      return pcl::PCLPointField::INT8;
-    case Scalar::U8:
-      return pcl::PCLPointField::UINT8;
-    case Scalar::I16:
-      return pcl::PCLPointField::INT16;
-    case Scalar::U16:
-      return pcl::PCLPointField::UINT16;
-    case Scalar::I32:
-      return pcl::PCLPointField::INT32;
-    case Scalar::U32:
-      return pcl::PCLPointField::UINT32;
-    case Scalar::F64:
-      return pcl::PCLPointField::FLOAT64;
-    default:
-      return pcl::PCLPointField::FLOAT32;
-  }
-}
-
 /** Lowest and highest value of an integer type. */
 void integerRange(Scalar t, double& lo, double& hi) {
   switch (t) {
-    case Scalar::I8:
+    case pcl::PCLPointField::INT8:
       lo = -128.0, hi = 127.0;
       return;
-    case Scalar::U8:
+    case pcl::PCLPointField::UINT8:
       lo = 0.0, hi = 255.0;
       return;
-    case Scalar::I16:
+    case pcl::PCLPointField::INT16:
       lo = -32768.0, hi = 32767.0;
       return;
-    case Scalar::U16:
+    case pcl::PCLPointField::UINT16:
       lo = 0.0, hi = 65535.0;
       return;
-    case Scalar::I32:
+    case pcl::PCLPointField::INT32:
       lo = -2147483648.0, hi = 2147483647.0;
       return;
     default:
@@ -124,62 +96,21 @@ class Body {
 
   std::size_t remaining() const { return data_.size() - std::min(pos_, data_.size()); }
 
-  /** Next value of type \a t as a double (any type converts exactly, but uint64). */
+  /** Next value of type \a t as a double (any type converts exactly). */
   double value(Scalar t, const char* what) {
     if (format_ == Format::Ascii)
       return asciiValue(t, what);
     std::uint8_t bytes[8];
     binaryValue(t, bytes, what);
-    return decode(t, bytes);
+    return internal::readFieldValue(bytes, t);
   }
 
   /** Next value of type \a t written to \a out in the machine's byte order. */
   void store(Scalar t, std::uint8_t* out, const char* what) {
-    if (format_ != Format::Ascii) {
+    if (format_ != Format::Ascii)
       binaryValue(t, out, what);
-      return;
-    }
-    const double v = asciiValue(t, what);
-    switch (t) {
-      case Scalar::I8: {
-        const auto x = static_cast<std::int8_t>(v);
-        std::memcpy(out, &x, 1);
-        return;
-      }
-      case Scalar::U8: {
-        const auto x = static_cast<std::uint8_t>(v);
-        std::memcpy(out, &x, 1);
-        return;
-      }
-      case Scalar::I16: {
-        const auto x = static_cast<std::int16_t>(v);
-        std::memcpy(out, &x, 2);
-        return;
-      }
-      case Scalar::U16: {
-        const auto x = static_cast<std::uint16_t>(v);
-        std::memcpy(out, &x, 2);
-        return;
-      }
-      case Scalar::I32: {
-        const auto x = static_cast<std::int32_t>(v);
-        std::memcpy(out, &x, 4);
-        return;
-      }
-      case Scalar::U32: {
-        const auto x = static_cast<std::uint32_t>(v);
-        std::memcpy(out, &x, 4);
-        return;
-      }
-      case Scalar::F32: {
-        const float x = static_cast<float>(v);  // beyond float's range: +-inf, as IEEE says
-        std::memcpy(out, &x, 4);
-        return;
-      }
-      case Scalar::F64:
-        std::memcpy(out, &v, 8);
-        return;
-    }
+    else  // beyond float's range: +-inf, as IEEE says
+      internal::writeFieldValue(asciiValue(t, what), t, out);
   }
 
   /** Skips \a bytes of binary data (a row of fixed size). */
@@ -202,46 +133,6 @@ class Body {
     pos_ += n;
     if (format_ == Format::BinaryBig)
       std::reverse(out, out + n);
-  }
-
-  static double decode(Scalar t, const std::uint8_t* b) {
-    switch (t) {
-      case Scalar::I8:
-        return static_cast<std::int8_t>(b[0]);
-      case Scalar::U8:
-        return b[0];
-      case Scalar::I16: {
-        std::int16_t v;
-        std::memcpy(&v, b, 2);
-        return v;
-      }
-      case Scalar::U16: {
-        std::uint16_t v;
-        std::memcpy(&v, b, 2);
-        return v;
-      }
-      case Scalar::I32: {
-        std::int32_t v;
-        std::memcpy(&v, b, 4);
-        return v;
-      }
-      case Scalar::U32: {
-        std::uint32_t v;
-        std::memcpy(&v, b, 4);
-        return v;
-      }
-      case Scalar::F32: {
-        float v;
-        std::memcpy(&v, b, 4);
-        return v;
-      }
-      case Scalar::F64: {
-        double v;
-        std::memcpy(&v, b, 8);
-        return v;
-      }
-    }
-    return 0.0;
   }
 
   double asciiValue(Scalar t, const char* what) {
@@ -297,6 +188,39 @@ struct Header {
   std::size_t body = 0;  ///< offset of the first byte after end_header's line
 };
 
+/** Adds the element or the property of an "element" or "property" line to \a h. */
+void plyDeclaration(const std::vector<std::string>& words, const std::string& bad, Header& h) {
+  if (words[0] == "element") {
+    Element e;
+    if (words.size() != 3)
+      throw FileError(bad + "is not 'element <name> <count>'");
+    e.name = words[1];
+    const char* end = words[2].data() + words[2].size();
+    const auto [ptr, ec] = std::from_chars(words[2].data(), end, e.count);
+    if (ec != std::errc() || ptr != end)
+      throw FileError(bad + "has no valid element count");
+    h.elements.push_back(e);
+    return;
+  }
+  if (h.elements.empty())
+    throw FileError(bad + "comes before any element");
+  Property p;
+  const bool list = words.size() == 5 && words[1] == "list";
+  if (!(list || words.size() == 3))
+    throw FileError(bad +
+                    "is not 'property <type> <name>' or 'property list <count "
+                    "type> <type> <name>'");
+  p.list = list;
+  if (list && (!parseScalar(words[2], p.count_type) || !isInteger(p.count_type)))
+    throw FileError(bad + "has no integer list count type");
+  if (!parseScalar(words[list ? 3 : 1], p.type))
+    throw FileError(bad + "has an unknown type");
+  p.name = words.back();
+  h.elements.back().properties.push_back(p);
+}
+
+/** The one PLY header parser: magic, format, elements and their properties up to end_header
+ * (at most 64 KiB); comments and obj_info are skipped. */
 Header parseHeader(const std::string& data, const std::string& path) {
   if (data.compare(0, 3, "ply") != 0 || (data.size() > 3 && data[3] != '\n' && data[3] != '\r'))
     throw FileError(path + ": not a PLY file (no 'ply' header line)");
@@ -331,38 +255,163 @@ Header parseHeader(const std::string& data, const std::string& path) {
       else
         throw FileError(bad + "names an unknown format");
       format_seen = true;
-    } else if (words[0] == "element") {
-      Element e;
-      if (words.size() != 3)
-        throw FileError(bad + "is not 'element <name> <count>'");
-      e.name = words[1];
-      const char* end = words[2].data() + words[2].size();
-      const auto [ptr, ec] = std::from_chars(words[2].data(), end, e.count);
-      if (ec != std::errc() || ptr != end)
-        throw FileError(bad + "has no valid element count");
-      h.elements.push_back(e);
-    } else if (words[0] == "property") {
-      if (h.elements.empty())
-        throw FileError(bad + "comes before any element");
-      Property p;
-      const bool list = words.size() == 5 && words[1] == "list";
-      if (!(list || words.size() == 3))
-        throw FileError(bad +
-                        "is not 'property <type> <name>' or 'property list <count "
-                        "type> <type> <name>'");
-      p.list = list;
-      if (list && (!parseScalar(words[2], p.count_type) || !isInteger(p.count_type)))
-        throw FileError(bad + "has no integer list count type");
-      if (!parseScalar(words[list ? 3 : 1], p.type))
-        throw FileError(bad + "has an unknown type");
-      p.name = words.back();
-      h.elements.back().properties.push_back(p);
-    } else
+    } else if (words[0] == "element" || words[0] == "property")
+      plyDeclaration(words, bad, h);
+    else
       throw FileError(bad + "is not a PLY header line (malformed file)");
   }
   if (!format_seen)
     throw FileError(path + ": PLY header has no format line (malformed file)");
   return h;
+}
+
+/** The first "vertex" element, its count within \a max_vertices, and every element's rows within
+ * the body's bytes: a header that claims more rows than the body can hold fails here, before
+ * any allocation. */
+const Element& checkPlySizes(const Header& header, std::uint64_t body_bytes,
+                             std::uint64_t max_vertices, const std::string& path) {
+  const Element* vertex = nullptr;
+  for (const Element& e : header.elements)
+    if (e.name == "vertex" && !vertex)
+      vertex = &e;
+  if (!vertex)
+    throw FileError(path + ": PLY header declares no vertex element");
+  if (vertex->count > max_vertices)
+    throw FileError(path + ": header claims " + std::to_string(vertex->count) +
+                    " vertices, more than the " + std::to_string(max_vertices) +
+                    " this reader accepts");
+  std::uint64_t needed = 0;
+  for (const Element& e : header.elements) {
+    const std::uint64_t row = minimumRowBytes(e, header.format);
+    if (row > 0 && (e.count > body_bytes / row + 1 || (needed += e.count * row) > body_bytes + 1))
+      throw FileError(path + ": PLY file is shorter than its " + std::to_string(e.count) + " " +
+                      printable(e.name) + " elements need (truncated or a lying header)");
+  }
+  return *vertex;
+}
+
+/** Where each vertex property goes in the cloud's point: scalar properties in order, red,
+ * green, blue [, alpha] of type uchar packed into one rgb / rgba field as PCL's reader does. */
+struct VertexLayout {
+  std::vector<int> offset_of;        ///< byte offset per property, -1: not a field of its own
+  int colour[4] = {-1, -1, -1, -1};  ///< property index of red, green, blue, alpha
+  bool packed = false;               ///< red, green and blue are packed
+  std::uint32_t colour_offset = 0;   ///< offset of the packed field
+  std::uint32_t step = 0;            ///< bytes per point
+
+  /** 0..3 for red, green, blue, alpha when property \a i is packed, else -1. */
+  int channel(std::size_t i) const {
+    if (!packed)
+      return -1;
+    const int* c = std::find(colour, colour + 4, static_cast<int>(i));
+    return c == colour + 4 ? -1 : static_cast<int>(c - colour);
+  }
+};
+
+/** The layout of \a vertex and the cloud's fields, width and steps (no data yet). */
+VertexLayout vertexLayout(const Element& vertex, pcl::PCLPointCloud2& cloud) {
+  VertexLayout l;
+  l.offset_of.assign(vertex.properties.size(), -1);
+  const char* names[4] = {"red", "green", "blue", "alpha"};
+  for (std::size_t i = 0; i < vertex.properties.size(); ++i)
+    for (int c = 0; c < 4; ++c)
+      if (!vertex.properties[i].list && vertex.properties[i].type == pcl::PCLPointField::UINT8 &&
+          vertex.properties[i].name == names[c] && l.colour[c] < 0)
+        l.colour[c] = static_cast<int>(i);
+  l.packed = l.colour[0] >= 0 && l.colour[1] >= 0 && l.colour[2] >= 0;
+  auto addField = [&](const std::string& name, std::uint8_t datatype) {
+    pcl::PCLPointField f;
+    f.name = name;
+    f.offset = l.step;
+    f.datatype = datatype;
+    f.count = 1;
+    cloud.fields.push_back(f);
+  };
+  for (std::size_t i = 0; i < vertex.properties.size(); ++i) {
+    const Property& p = vertex.properties[i];
+    if (p.list || l.channel(i) >= 0)
+      continue;
+    addField(p.name, p.type);
+    l.offset_of[i] = static_cast<int>(l.step);
+    l.step += static_cast<std::uint32_t>(scalarSize(p.type));
+  }
+  if (l.packed) {
+    const bool alpha = l.colour[3] >= 0;
+    addField(alpha ? "rgba" : "rgb",
+             alpha ? pcl::PCLPointField::UINT32 : pcl::PCLPointField::FLOAT32);
+    l.colour_offset = l.step;
+    l.step += 4;
+  }
+  cloud.width = static_cast<std::uint32_t>(vertex.count);
+  cloud.height = 1;
+  cloud.point_step = l.step;
+  cloud.row_step = static_cast<std::uint32_t>(std::min<std::uint64_t>(
+      std::uint64_t(l.step) * vertex.count, std::numeric_limits<std::uint32_t>::max()));
+  cloud.is_bigendian = false;
+  cloud.is_dense = false;
+  return l;
+}
+
+/** What the rows of one element are read into. */
+struct RowTarget {
+  const VertexLayout* vertex = nullptr;  ///< the vertex element: its layout
+  std::uint8_t* point = nullptr;         ///< the vertex element: this row's point
+  const Property* indices = nullptr;     ///< the face element: the list kept as a polygon
+  pcl::Vertices* polygon = nullptr;      ///< the face element: this row's polygon
+};
+
+/** Reads one list property: its length, then its items; the face's vertex indices are kept in
+ * the polygon, each checked against the \a vertices count. */
+void readList(Body& body, const Property& p, Format format, const RowTarget& target,
+              std::uint64_t row, std::uint64_t vertices, const std::string& what_s,
+              const std::string& path) {
+  const char* what = what_s.c_str();
+  const double count = body.value(p.count_type, what);
+  if (count < 0)
+    throw FileError(path + ": negative list length in the " + what_s + " (malformed PLY file)");
+  const std::uint64_t n = static_cast<std::uint64_t>(count);
+  const std::uint64_t item = format == Format::Ascii ? 2 : scalarSize(p.type);
+  if (n > 0 && n > (body.remaining() + 1) / item)
+    body.truncated(what);
+  const bool keep = target.polygon && &p == target.indices;
+  for (std::uint64_t k = 0; k < n; ++k) {
+    const double v = body.value(p.type, what);
+    if (!keep)
+      continue;
+    target.polygon->vertices.push_back(
+        v >= 0.0 && v < static_cast<double>(vertices) ? static_cast<pcl::index_t>(v) : -1);
+    if (target.polygon->vertices.back() < 0)
+      throw FileError(path + ": PLY face " + std::to_string(row) + " refers to vertex " +
+                      std::to_string(static_cast<long long>(v)) + ", but the file has " +
+                      std::to_string(vertices) + " vertices");
+  }
+}
+
+/** Reads one row of \a e: a vertex's values into its point (colours packed, b, g, r, a in
+ * memory as PCL does: little-endian 0xAARRGGBB), a face's indices into its polygon, anything
+ * else read and dropped. */
+void readRow(Body& body, const Element& e, Format format, const RowTarget& target,
+             std::uint64_t row, std::uint64_t vertices, const std::string& what_s,
+             const std::string& path) {
+  const char* what = what_s.c_str();
+  const VertexLayout* layout = target.vertex;
+  for (std::size_t i = 0; i < e.properties.size(); ++i) {
+    const Property& p = e.properties[i];
+    if (p.list) {
+      readList(body, p, format, target, row, vertices, what_s, path);
+      continue;
+    }
+    const int channel = layout ? layout->channel(i) : -1;
+    if (layout && layout->offset_of[i] >= 0)
+      body.store(p.type, target.point + layout->offset_of[i], what);
+    else if (channel >= 0)
+      body.store(pcl::PCLPointField::UINT8,
+                 target.point + layout->colour_offset + (channel == 3 ? 3 : 2 - channel), what);
+    else
+      body.value(p.type, what);
+  }
+  if (layout && layout->packed && layout->colour[3] < 0)
+    target.point[layout->colour_offset + 3] = 255;
 }
 
 }  // namespace
@@ -378,151 +427,45 @@ std::string readWholeFile(const std::string& path) {
 PlyContents readPlyFile(const std::string& path, bool read_faces, std::uint64_t max_vertices) {
   const std::string data = readWholeFile(path);
   const Header header = parseHeader(data, path);
-
-  const Element* vertex = nullptr;
-  for (const Element& e : header.elements)
-    if (e.name == "vertex" && !vertex)
-      vertex = &e;
-  if (!vertex)
-    throw FileError(path + ": PLY header declares no vertex element");
-  if (vertex->count > max_vertices)
-    throw FileError(path + ": header claims " + std::to_string(vertex->count) +
-                    " vertices, more than the " + std::to_string(max_vertices) +
-                    " this reader accepts");
-  // Every element's rows need a least number of bytes: a header that claims more rows than
-  // the body can hold fails here, before any allocation.
-  const std::uint64_t body_bytes = data.size() - header.body;
-  std::uint64_t needed = 0;
-  for (const Element& e : header.elements) {
-    const std::uint64_t row = minimumRowBytes(e, header.format);
-    if (row > 0 && (e.count > body_bytes / row + 1 || (needed += e.count * row) > body_bytes + 1))
-      throw FileError(path + ": PLY file is shorter than its " + std::to_string(e.count) + " " +
-                      printable(e.name) + " elements need (truncated or a lying header)");
-  }
-
+  const Element& vertex = checkPlySizes(header, data.size() - header.body, max_vertices, path);
   PlyContents out;
-  pcl::PCLPointCloud2& cloud = out.vertices;
-  // Vertex layout: scalar properties in order, red/green/blue[/alpha] uchar packed.
-  std::vector<int> offset_of(vertex->properties.size(), -1);
-  int colour[4] = {-1, -1, -1, -1};  // property index of red, green, blue, alpha
-  {
-    const char* names[4] = {"red", "green", "blue", "alpha"};
-    for (std::size_t i = 0; i < vertex->properties.size(); ++i)
-      for (int c = 0; c < 4; ++c)
-        if (!vertex->properties[i].list && vertex->properties[i].type == Scalar::U8 &&
-            vertex->properties[i].name == names[c] && colour[c] < 0)
-          colour[c] = static_cast<int>(i);
-  }
-  const bool packed = colour[0] >= 0 && colour[1] >= 0 && colour[2] >= 0;
-  std::uint32_t step = 0;
-  for (std::size_t i = 0; i < vertex->properties.size(); ++i) {
-    const Property& p = vertex->properties[i];
-    const bool is_colour =
-        packed && std::find(colour, colour + 4, static_cast<int>(i)) != colour + 4;
-    if (p.list || is_colour)
-      continue;
-    pcl::PCLPointField f;
-    f.name = p.name;
-    f.offset = step;
-    f.datatype = pclType(p.type);
-    f.count = 1;
-    cloud.fields.push_back(f);
-    offset_of[i] = static_cast<int>(step);
-    step += static_cast<std::uint32_t>(scalarSize(p.type));
-  }
-  std::uint32_t colour_offset = 0;
-  if (packed) {
-    pcl::PCLPointField f;
-    f.name = colour[3] >= 0 ? "rgba" : "rgb";
-    f.offset = colour_offset = step;
-    f.datatype = colour[3] >= 0 ? pcl::PCLPointField::UINT32 : pcl::PCLPointField::FLOAT32;
-    f.count = 1;
-    cloud.fields.push_back(f);
-    step += 4;
-  }
-  cloud.width = static_cast<std::uint32_t>(vertex->count);
-  cloud.height = 1;
-  cloud.point_step = step;
-  cloud.row_step = static_cast<std::uint32_t>(std::min<std::uint64_t>(
-      std::uint64_t(step) * vertex->count, std::numeric_limits<std::uint32_t>::max()));
-  cloud.is_bigendian = false;
-  cloud.is_dense = false;
-
+  const VertexLayout layout = vertexLayout(vertex, out.vertices);
   Body body(data, header.body, header.format, path);
   bool vertices_read = false;
   for (const Element& e : header.elements) {
-    const bool is_vertex = &e == vertex;
+    const bool is_vertex = &e == &vertex;
     const bool is_face = read_faces && e.name == "face";
     if (!is_vertex && !is_face && vertices_read && !read_faces)
       break;  // a scene needs nothing after its vertices
     if (e.properties.empty())
       continue;
-    const std::string what_s = printable(e.name) + " element";
-    const char* what = what_s.c_str();
-    bool fixed = true;
-    for (const Property& p : e.properties)
-      fixed = fixed && !p.list;
+    const std::string what = printable(e.name) + " element";
+    const bool fixed = std::none_of(e.properties.begin(), e.properties.end(),
+                                    [](const Property& p) { return p.list; });
     if (!is_vertex && !is_face && fixed && header.format != Format::Ascii) {
-      body.skip(e.count * minimumRowBytes(e, header.format), what);
+      body.skip(e.count * minimumRowBytes(e, header.format), what.c_str());
       continue;
     }
-    if (is_vertex)
-      cloud.data.resize(static_cast<std::size_t>(e.count) * step);
-    const Property* indices = nullptr;
-    if (is_face)
+    RowTarget target;
+    if (is_vertex) {
+      out.vertices.data.resize(static_cast<std::size_t>(e.count) * layout.step);
+      target.vertex = &layout;
+    }
+    if (is_face) {
       for (const Property& p : e.properties)
-        if (p.list && (p.name == "vertex_indices" || p.name == "vertex_index") && !indices)
-          indices = &p;
-    if (is_face && indices && !isInteger(indices->type))
-      throw FileError(path + ": PLY face indices are not of an integer type");
-    if (is_face)
+        if (p.list && (p.name == "vertex_indices" || p.name == "vertex_index") && !target.indices)
+          target.indices = &p;
+      if (target.indices && !isInteger(target.indices->type))
+        throw FileError(path + ": PLY face indices are not of an integer type");
       out.polygons.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(
           e.count, body.remaining() / minimumRowBytes(e, header.format) + 1)));
-    const std::uint64_t item_bytes_min = header.format == Format::Ascii ? 2 : 0;
+    }
     for (std::uint64_t row = 0; row < e.count; ++row) {
-      std::uint8_t* point = is_vertex ? cloud.data.data() + row * step : nullptr;
+      if (is_vertex)
+        target.point = out.vertices.data.data() + row * layout.step;
       if (is_face)
-        out.polygons.emplace_back();
-      for (std::size_t i = 0; i < e.properties.size(); ++i) {
-        const Property& p = e.properties[i];
-        if (!p.list) {
-          if (is_vertex && offset_of[i] >= 0)
-            body.store(p.type, point + offset_of[i], what);
-          else if (is_vertex && packed &&
-                   std::find(colour, colour + 4, static_cast<int>(i)) != colour + 4) {
-            const int c =
-                static_cast<int>(std::find(colour, colour + 4, static_cast<int>(i)) - colour);
-            // Packed as PCL does: b, g, r, a in memory (little-endian 0xAARRGGBB).
-            const int byte = c == 3 ? 3 : 2 - c;
-            body.store(Scalar::U8, point + colour_offset + byte, what);
-          } else
-            body.value(p.type, what);
-          continue;
-        }
-        const double count = body.value(p.count_type, what);
-        if (count < 0)
-          throw FileError(path + ": negative list length in the " + what_s +
-                          " (malformed PLY file)");
-        const std::uint64_t n = static_cast<std::uint64_t>(count);
-        const std::uint64_t item =
-            header.format == Format::Ascii ? item_bytes_min : scalarSize(p.type);
-        if (n > 0 && n > (body.remaining() + 1) / item)
-          body.truncated(what);
-        const bool keep = is_face && &p == indices;
-        for (std::uint64_t k = 0; k < n; ++k) {
-          const double v = body.value(p.type, what);
-          if (keep)
-            out.polygons.back().vertices.push_back(
-                v >= 0.0 && v < static_cast<double>(vertex->count) ? static_cast<pcl::index_t>(v)
-                                                                   : -1);
-          if (keep && out.polygons.back().vertices.back() < 0)
-            throw FileError(path + ": PLY face " + std::to_string(row) + " refers to vertex " +
-                            std::to_string(static_cast<long long>(v)) + ", but the file has " +
-                            std::to_string(vertex->count) + " vertices");
-        }
-      }
-      if (packed && is_vertex && colour[3] < 0)
-        point[colour_offset + 3] = 255;
+        target.polygon = &out.polygons.emplace_back();
+      readRow(body, e, header.format, target, row, vertex.count, what, path);
     }
     vertices_read = vertices_read || is_vertex;
   }

@@ -1,0 +1,73 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#pragma once
+
+/** \file
+ * \brief Internal to the libraries' sources (not installed): the one reader and writer of a
+ * single value of a pcl::PCLPointField, whatever its datatype. PCL converts a PCLPointCloud2 to
+ * a typed cloud only when the field types match the point type's (pcl::fromPCLPointCloud2 leaves
+ * an x of type double or int at zero); files carry every type (PLY declares any, PCD writes
+ * F 8 and I 2), so the readers and the mesh code read each value through these. Find the field
+ * with pcl::getFieldIndex and its size with pcl::getFieldSize. */
+
+#include <pcl/PCLPointField.h>
+#include <pcl/type_traits.h>
+
+#include <cstdint>
+#include <cstring>
+
+namespace pcl {
+namespace icf {
+namespace internal {
+
+/** The field types a PCLPointField value is read as, besides FLOAT32. */
+template <typename... T>
+struct FieldTypes {};
+
+/** visitFieldType over the types \a T, Rest...: the first whose PCL datatype is \a datatype. */
+template <typename F, typename T, typename... Rest>
+auto visitFieldTypeIn(std::uint8_t datatype, F&& f, FieldTypes<T, Rest...>) {
+  if (datatype == pcl::traits::asEnum_v<T>)
+    return f(T());
+  if constexpr (sizeof...(Rest) > 0)
+    return visitFieldTypeIn(datatype, f, FieldTypes<Rest...>());
+  else
+    return f(float());
+}
+
+/** \brief Calls \a f with a value of the C++ type of a field of type \a datatype (a
+ * pcl::PCLPointField::PointFieldTypes) and returns what it returns. Types of 32 bits or fewer
+ * and FLOAT64 are themselves; any other datatype (BOOL, INT64, UINT64, unknown) is taken as
+ * FLOAT32, the type of most clouds: callers check the datatype first where that matters. */
+template <typename F>
+auto visitFieldType(std::uint8_t datatype, F&& f) {
+  return visitFieldTypeIn(datatype, f,
+                          FieldTypes<std::int8_t, std::uint8_t, std::int16_t, std::uint16_t,
+                                     std::int32_t, std::uint32_t, double>());
+}
+
+/** \brief The value at \a p of a field of type \a datatype (in the machine's byte order; \a p
+ * need not be aligned) as a double: exact for every type visitFieldType knows. */
+inline double readFieldValue(const std::uint8_t* p, std::uint8_t datatype) {
+  return visitFieldType(datatype, [p](auto type) {
+    decltype(type) v;
+    std::memcpy(&v, p, sizeof v);
+    return static_cast<double>(v);
+  });
+}
+
+/** \brief Writes \a v at \a out (need not be aligned) as a field of type \a datatype: a C++
+ * conversion (integers: \a v must lie in the type's range, fractions are cut; FLOAT32:
+ * rounded, beyond float's range +-inf). */
+inline void writeFieldValue(double v, std::uint8_t datatype, std::uint8_t* out) {
+  visitFieldType(datatype, [v, out](auto type) {
+    const auto x = static_cast<decltype(type)>(v);
+    std::memcpy(out, &x, sizeof x);
+  });
+}
+
+}  // namespace internal
+}  // namespace icf
+}  // namespace pcl

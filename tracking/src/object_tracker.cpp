@@ -88,7 +88,7 @@ void ObjectTracker::setPose(int object, const Eigen::Isometry3f& model_to_camera
     throw std::out_of_range("[pcl::icf::tracking::ObjectTracker::setPose] no object " +
                             std::to_string(object));
   validateRigidTransform(model_to_camera.matrix().cast<double>(),
-                         "ObjectTracker::setPose: the pose");
+                         "[pcl::icf::tracking::ObjectTracker::setPose] the pose");
   Object& o = objects_[static_cast<std::size_t>(object)];
   o.last = model_to_camera;
   o.previous.reset();
@@ -275,7 +275,8 @@ TrackedFrame ObjectTracker::track(const pcl::PointCloud<PointT>& frame) {
   FrameView view;
   static_cast<internal::SceneView&>(view) = internal::makeSceneView(frame);
   view.camera_to_scene = localization::cameraPoseOf(frame, params_.localizer);
-  validateRigidTransform(view.camera_to_scene.matrix().cast<double>(), "camera pose");
+  validateRigidTransform(view.camera_to_scene.matrix().cast<double>(),
+                         "[pcl::icf::tracking::ObjectTracker::track] the camera pose");
   const Eigen::Isometry3f scene_to_camera = view.camera_to_scene.inverse(Eigen::Isometry);
   if (!scene_to_camera.matrix().isIdentity(0.f))
     for (Eigen::Vector3f& p : view.points)

@@ -91,7 +91,8 @@ Localization localizeObject(const pcl::PointCloud<PointT>& scene, const IcfModel
                             const LocalizerParams& params) {
   params.validate();
   const Eigen::Isometry3f camera_to_scene = cameraPoseOf(scene, params);
-  validateRigidTransform(camera_to_scene.matrix().cast<double>(), "camera pose");
+  validateRigidTransform(camera_to_scene.matrix().cast<double>(),
+                         "[pcl::icf::localization::localizeObject] the camera pose");
   if (camera_to_scene.matrix() == Eigen::Matrix4f::Identity())
     return detail::localizeInCameraFrame(scene, model, params);
   const auto start = std::chrono::steady_clock::now();

@@ -338,8 +338,8 @@ int sameVerdictNeighbours(const std::vector<std::uint8_t>& verdict, const Footpr
   return same;
 }
 
-}  // namespace
-
+/** The silhouette margin in pixels for a model of \a diameter rendered in \a m (see
+ * DepthVerificationParams::silhouette_margin). */
 int silhouetteMarginPixels(const ModelDepth& m, const PinholeIntrinsics& k, float diameter,
                            const DepthVerificationParams& params) {
   if (m.u_max < m.u_min)
@@ -349,6 +349,8 @@ int silhouetteMarginPixels(const ModelDepth& m, const PinholeIntrinsics& k, floa
   const float bounded = std::isfinite(pixels) ? std::clamp(pixels, 0.f, 16.f) : 16.f;
   return std::clamp(static_cast<int>(std::ceil(bounded)), params.border_pixels, 16);
 }
+
+}  // namespace
 
 ModelDepth renderModelDepth(const IcfModel& model, const Eigen::Isometry3f& model_to_camera,
                             const PinholeIntrinsics& k) {

@@ -179,10 +179,5 @@ std::vector<int> pointsExplainedBy(const IcfModel& model, const Eigen::Isometry3
                                    const std::vector<Eigen::Vector3f>& points,
                                    const DepthVerificationParams& params = {});
 
-/** \brief The silhouette margin in pixels for a model of \a diameter rendered in \a rendered
- * (see DepthVerificationParams::silhouette_margin). */
-int silhouetteMarginPixels(const ModelDepth& rendered, const PinholeIntrinsics& intrinsics,
-                           float diameter, const DepthVerificationParams& params);
-
 }  // namespace icf
 }  // namespace pcl

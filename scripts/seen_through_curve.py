@@ -48,7 +48,7 @@ def angle_deg(r):
 
 
 def rotation_error(est, truth, symmetry):
-    """Symmetry-aware rotation error in degrees (test/support/pose_error.h)."""
+    """Symmetry-aware rotation error in degrees (synthetic/pose_error.h)."""
     kind, _, args = symmetry.partition(":")
     if kind == "cylinder":
         z_est, z_true = est[:3, 2], truth[:3, 2]

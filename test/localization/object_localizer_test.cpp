@@ -2,9 +2,9 @@
 // the target must be found in the right cluster at the right pose, among distractors that
 // beat it on point count; scenario 6, where the thesis failed, with the colour cue. Real data:
 // the YCB-Video frame, whose four objects touch and merge into one cluster.
-#include "support/depth_camera.h"
-#include "support/pose_error.h"
-#include "support/synthetic_models.h"
+#include "synthetic/depth_camera.h"
+#include "synthetic/pose_error.h"
+#include "synthetic/synthetic_models.h"
 #include "test_paths.h"
 
 #include <pcl/common/transforms.h>

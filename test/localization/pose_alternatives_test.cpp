@@ -3,8 +3,8 @@
 // turns must come back as alternatives as good as the pose; a frustum (a cup, wider at the
 // top) looks the same after any turn about its axis and different upside down, so only turns
 // about its axis may come back. principalAxes against a box's known axes.
-#include "support/depth_camera.h"
-#include "support/synthetic_models.h"
+#include "synthetic/depth_camera.h"
+#include "synthetic/synthetic_models.h"
 
 #include <pcl/icf/localization/pose_alternatives.h>
 

@@ -1,6 +1,6 @@
 // The accelerated exact index (Embree) against the brute-force reference on random points
 // around synthetic and real meshes, radius-bounded queries, and concurrent queries.
-#include "support/synthetic_models.h"
+#include "synthetic/synthetic_models.h"
 #include "test_paths.h"
 
 #include <pcl/icf/closest_face_query.h>

@@ -2,8 +2,8 @@
 // (depth_camera.h, Moeller-Trumbore on every triangle) renders the same mesh at the same pose;
 // the intrinsics fit must recover the simulator's camera; explainDepth must call a right pose
 // explained and a pose moved off the object, or a model smaller than the object, not.
-#include "support/depth_camera.h"
-#include "support/synthetic_models.h"
+#include "synthetic/depth_camera.h"
+#include "synthetic/synthetic_models.h"
 
 #include <pcl/icf/depth_verification.h>
 

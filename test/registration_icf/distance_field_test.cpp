@@ -1,7 +1,7 @@
 // The closest-point field against exact distances: exact on planar patches (the interpolated
 // closest point is affine there), within its documented bound everywhere in the grid, and
 // "at least the margin" beyond it.
-#include "support/synthetic_models.h"
+#include "synthetic/synthetic_models.h"
 #include "test_paths.h"
 
 #include <pcl/icf/distance_field.h>

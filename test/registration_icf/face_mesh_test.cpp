@@ -1,6 +1,6 @@
 // FaceMesh::build: faces kept or triangulated, degenerate and duplicate faces dropped and
 // counted, and clear errors for meshes that cannot be models.
-#include "support/mesh_geometry.h"
+#include "synthetic/mesh_geometry.h"
 
 #include <pcl/conversions.h>
 #include <pcl/icf/face_mesh.h>

@@ -3,10 +3,10 @@
 // without a table. Each gives a clear error (exception type and a fragment of its message) or
 // a correct answer, never a crash or a hang, and a lying header does not allocate what it
 // claims (checked in a forked child under an address-space limit).
-#include "support/depth_camera.h"
-#include "support/mesh_geometry.h"
-#include "support/pose_error.h"
-#include "support/synthetic_models.h"
+#include "synthetic/depth_camera.h"
+#include "synthetic/mesh_geometry.h"
+#include "synthetic/pose_error.h"
+#include "synthetic/synthetic_models.h"
 #include "test_paths.h"
 
 #include <pcl/common/transforms.h>

@@ -6,9 +6,9 @@
 // must be at least as accurate, and every overlapping method must behave as the table in
 // doc/icf.md section 8 says, each checked against an independent oracle (the known pose, the
 // source moved by hand, brute-force distances).
-#include "support/depth_camera.h"
-#include "support/pose_error.h"
-#include "support/synthetic_models.h"
+#include "synthetic/depth_camera.h"
+#include "synthetic/pose_error.h"
+#include "synthetic/synthetic_models.h"
 #include "test_paths.h"
 
 #include <pcl/common/io.h>

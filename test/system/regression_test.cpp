@@ -3,7 +3,7 @@
 // Also: every seed of the fuzzers' corpora (fuzz/corpus/) is a valid file and loads, and our
 // readers (which replaced PCL's and VTK's, io/src/file_formats.h) give what PCL's gave on the
 // real files of ../shared/data and the demo.
-#include "support/mesh_geometry.h"
+#include "synthetic/mesh_geometry.h"
 #include "test_paths.h"
 
 #include <pcl/conversions.h>

@@ -2,8 +2,8 @@
 // determinism"): the same seed gives bit-identical poses, scores and decisions with 1, 2 and 3
 // threads, for the localizer over a whole scene, for the thesis search and for the
 // SampleConsensus fallback. Run under ThreadSanitizer by the "tsan" preset.
-#include "support/depth_camera.h"
-#include "support/synthetic_models.h"
+#include "synthetic/depth_camera.h"
+#include "synthetic/synthetic_models.h"
 
 #include <pcl/icf/estimate_pose.h>
 #include <pcl/icf/icf_model.h>

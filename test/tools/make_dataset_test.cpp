@@ -5,8 +5,8 @@
 // pcl_icf_make_dataset --kind sequence (issue 15) end to end: the frames, their list and the
 // ground truth, checked against the frames' own points; the same seed gives the same bytes;
 // bad options are refused.
-#include "support/mesh_geometry.h"
-#include "support/synthetic_models.h"
+#include "synthetic/mesh_geometry.h"
+#include "synthetic/synthetic_models.h"
 #include "test_paths.h"
 
 #include <pcl/io/pcd_io.h>

@@ -3,8 +3,8 @@
 // for each class of bad input with a one-line reason), the JSON schema, the PNG (a real PNG of
 // the expected size whose pixels are not uniform and show the model), the units, the
 // no-overwrite / --force rules and batch mode.
-#include "support/pose_error.h"
-#include "support/synthetic_models.h"
+#include "synthetic/pose_error.h"
+#include "synthetic/synthetic_models.h"
 #include "test_paths.h"
 
 #include <pcl/conversions.h>

@@ -4,10 +4,10 @@
  */
 // ObjectTracker (issue 15): a synthetic sequence (an object moved smoothly, taken away for some
 // frames and put back) and the real consecutive frames of ycbv-video0000.
-#include "support/depth_camera.h"
-#include "support/pose_error.h"
-#include "support/synthetic_models.h"
-#include "support/synthetic_sequence.h"
+#include "synthetic/depth_camera.h"
+#include "synthetic/pose_error.h"
+#include "synthetic/synthetic_models.h"
+#include "synthetic/synthetic_sequence.h"
 #include "test_paths.h"
 
 #include <pcl/icf/io/mesh_io.h>

@@ -7,7 +7,7 @@
 //                        [--frames N] [--models A,B,...] [--seed S]
 //
 // --kind views (default): per model N single-object clusters, the model at a uniformly random
-//   rotation, x, y in [-0.15, 0.15] m and 0.7-1.1 m in front of the camera (the test support's
+//   rotation, x, y in [-0.15, 0.15] m and 0.7-1.1 m in front of the camera (the synthetic library's
 //   randomTabletopPose), rendered alone (renderCluster); groups are the model names. --models
 //   may also name mesh files (.ply, .obj or .stl, metres: e.g. ../shared/data/meshes/bunny.ply),
 //   free-form objects the thesis's primitives do not cover: the group is the file's stem, its
@@ -56,12 +56,12 @@
 // with NaN where nothing was hit) and the manifest (default DIR/manifest.txt) whose paths are
 // relative to the manifest's directory. Exit codes: 0 written, 2 bad usage or I/O error.
 #include "common/arguments.h"
-#include "support/depth_camera.h"
-#include "support/mesh_geometry.h"
-#include "support/pose_error.h"
-#include "support/synthetic_clutter.h"
-#include "support/synthetic_models.h"
-#include "support/synthetic_sequence.h"
+#include "synthetic/depth_camera.h"
+#include "synthetic/mesh_geometry.h"
+#include "synthetic/pose_error.h"
+#include "synthetic/synthetic_clutter.h"
+#include "synthetic/synthetic_models.h"
+#include "synthetic/synthetic_sequence.h"
 
 #include <pcl/icf/io/mesh_io.h>
 #include <pcl/io/pcd_io.h>

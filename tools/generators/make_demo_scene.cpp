@@ -3,8 +3,8 @@
 // 320 x 240 organized table-top scene with Box5 and two distractors (a cup and a statue) with
 // Box5's ground-truth pose, the default scene of pcl_icf_tool. Deterministic.
 //   make_demo_scene OUTPUT_DIR
-#include "support/depth_camera.h"
-#include "support/synthetic_models.h"
+#include "synthetic/depth_camera.h"
+#include "synthetic/synthetic_models.h"
 
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>

@@ -5,7 +5,7 @@
 // pcl_icf_bench's manifest: one case per line (doc/DATASETS.md).
 #pragma once
 
-#include "support/pose_error.h"
+#include "synthetic/pose_error.h"
 
 #include <Eigen/Geometry>
 

@@ -19,7 +19,7 @@
 // then the totals and whether the bars are met. Exit codes: 0 bars met, 1 not met, 2 bad input.
 #include "common/arguments.h"
 #include "pcl_icf_bench/bench_manifest.h"
-#include "support/pose_error.h"
+#include "synthetic/pose_error.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,7 +1,7 @@
 // Error of the closest-point field against exact distances, within 3 cm of the surface
 // (where scoring happens), on the benchmark meshes: median, 99th percentile and maximum.
 //   build/release/bench/pcl_icf_field_error
-#include "support/synthetic_models.h"
+#include "synthetic/synthetic_models.h"
 
 #include <pcl/icf/distance_field.h>
 #include <pcl/icf/io/mesh_io.h>

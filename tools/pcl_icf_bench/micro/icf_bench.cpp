@@ -3,9 +3,9 @@
 // pcl::IterativeClosestPoint on mesh samples from the centroid start, on synthetic depth
 // views of the thesis's four models at random poses (seeded).
 //   build/release/bench/pcl_icf_icf_bench [trials=50] [thesis_trials=3] > table.md
-#include "support/depth_camera.h"
-#include "support/pose_error.h"
-#include "support/synthetic_models.h"
+#include "synthetic/depth_camera.h"
+#include "synthetic/pose_error.h"
+#include "synthetic/synthetic_models.h"
 
 #include <pcl/icf/iterative_closest_face.h>
 #include <pcl/registration/icp.h>

@@ -2,8 +2,8 @@
 // (thesis scenario 1: Box5, a cup, a statue) and the real YCB-Video frame (4 touching
 // objects), median of N runs, split into segmentation and registration.
 //   build/release/bench/pcl_icf_localizer_bench [runs=9]
-#include "support/depth_camera.h"
-#include "support/synthetic_models.h"
+#include "synthetic/depth_camera.h"
+#include "synthetic/synthetic_models.h"
 
 #include <pcl/icf/io/mesh_io.h>
 #include <pcl/icf/localization/object_localizer.h>

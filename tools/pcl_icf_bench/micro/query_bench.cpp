@@ -3,7 +3,7 @@
 // the 54,839-triangle dinosaur from ../shared/data. Query points: surface samples displaced
 // along a random direction by up to 5 mm, as scan points near a well-posed model are.
 //   build/release/bench/pcl_icf_query_bench --benchmark_min_time=1
-#include "support/synthetic_models.h"
+#include "synthetic/synthetic_models.h"
 
 #include <pcl/icf/closest_face_query.h>
 #include <pcl/icf/distance_field.h>

@@ -9,7 +9,7 @@
  */
 #pragma once
 
-#include "support/pose_error.h"
+#include "synthetic/pose_error.h"
 
 #include <pcl/PolygonMesh.h>
 

@@ -1,6 +1,6 @@
-#include "support/pose_error.h"
+#include "synthetic/pose_error.h"
 
-#include "support/mesh_geometry.h"
+#include "synthetic/mesh_geometry.h"
 
 #include <algorithm>
 #include <cmath>

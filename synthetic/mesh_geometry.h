@@ -1,6 +1,6 @@
 /**
  * \file mesh_geometry.h
- * \brief Small geometric helpers on pcl::PolygonMesh used by the test-support code.
+ * \brief Small geometric helpers on pcl::PolygonMesh used by the synthetic scenes.
  *
  * Meshes store their vertices as pcl::PointXYZ in mesh.cloud (metres) and their faces as
  * pcl::Vertices (indices into the cloud), counter-clockwise seen from outside.

@@ -1,6 +1,6 @@
-#include "support/synthetic_clutter.h"
+#include "synthetic/synthetic_clutter.h"
 
-#include "support/mesh_geometry.h"
+#include "synthetic/mesh_geometry.h"
 
 #include <algorithm>
 #include <cmath>

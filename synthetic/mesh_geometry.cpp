@@ -1,4 +1,4 @@
-#include "support/mesh_geometry.h"
+#include "synthetic/mesh_geometry.h"
 
 #include <pcl/conversions.h>
 #include <pcl/point_cloud.h>

@@ -1,6 +1,6 @@
-#include "support/depth_camera.h"
+#include "synthetic/depth_camera.h"
 
-#include "support/mesh_geometry.h"
+#include "synthetic/mesh_geometry.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "support/synthetic_sequence.h"
+#include "synthetic/synthetic_sequence.h"
 
 #include <algorithm>
 #include <cmath>

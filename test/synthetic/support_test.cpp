@@ -1,12 +1,13 @@
 /**
  * \file support_test.cpp
- * \brief Tests of the test-support library itself: synthetic models, depth camera, pose errors.
+ * \brief Tests of the synthetic-scene library (synthetic/) itself: synthetic models, depth camera,
+ * pose errors.
  */
-#include "support/depth_camera.h"
-#include "support/mesh_geometry.h"
-#include "support/pose_error.h"
-#include "support/synthetic_clutter.h"
-#include "support/synthetic_models.h"
+#include "synthetic/depth_camera.h"
+#include "synthetic/mesh_geometry.h"
+#include "synthetic/pose_error.h"
+#include "synthetic/synthetic_clutter.h"
+#include "synthetic/synthetic_models.h"
 
 #include <gtest/gtest.h>
 

@@ -11,7 +11,7 @@
  */
 #pragma once
 
-#include "support/synthetic_models.h"
+#include "synthetic/synthetic_models.h"
 
 #include <pcl/PolygonMesh.h>
 #include <pcl/point_cloud.h>

@@ -9,8 +9,8 @@
  */
 #pragma once
 
-#include "support/depth_camera.h"
-#include "support/synthetic_models.h"
+#include "synthetic/depth_camera.h"
+#include "synthetic/synthetic_models.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

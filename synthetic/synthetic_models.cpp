@@ -1,6 +1,6 @@
-#include "support/synthetic_models.h"
+#include "synthetic/synthetic_models.h"
 
-#include "support/mesh_geometry.h"
+#include "synthetic/mesh_geometry.h"
 
 #include <cmath>
 #include <stdexcept>

@@ -226,6 +226,24 @@ TEST_F(SceneIo, XyzGarbageNamesTheLine) {
   expectFileError(write("h.xyz", "0.1 0.2 0.3\n0.4 0.5 0.6\n0.7 0."), "h.xyz:3:");
 }
 
+TEST_F(SceneIo, XyzTextInMemory) {
+  bool colour = true;
+  const auto cloud = pcl::icf::io::parseXyzText("1 2 3\r\n# note\n4,5,6\n", "stream", &colour);
+  EXPECT_FALSE(colour);
+  ASSERT_EQ(cloud->size(), 2u);
+  EXPECT_EQ(cloud->height, 1u);
+  EXPECT_FLOAT_EQ((*cloud)[1].y, 5.f);
+  EXPECT_EQ((*cloud)[1].r, 255);
+  EXPECT_TRUE(cloud->is_dense);
+  expectError([] { pcl::icf::io::parseXyzText("1 2 3\n4 5\n", "stream"); }, "stream:2: expected");
+  expectError([] { pcl::icf::io::parseXyzText("# only a comment\n", "stream"); }, "no points",
+              true);
+  // All NaN: a cloud (loadSceneCloud refuses it, parseXyzText leaves the choice to the caller).
+  const auto nan = pcl::icf::io::parseXyzText("nan nan nan\n", "stream");
+  ASSERT_EQ(nan->size(), 1u);
+  EXPECT_FALSE(nan->is_dense);
+}
+
 TEST_F(SceneIo, EmptyAndAllNaNCloudsAreTheirOwnError) {
   expectEmpty(write("comments.xyz", "# nothing here\n\n   \n"), "no points");
   expectEmpty(write("nan.xyz", "nan nan nan\nnan 1 2\n"), "NaN");

@@ -62,9 +62,24 @@ constexpr std::size_t kMaxScenePoints = 50000000;
 pcl::PointCloud<pcl::PointXYZRGBA>::Ptr loadSceneCloud(const std::string& path,
                                                        SceneFileInfo* info = nullptr);
 
-/** \brief Parse .xyz / .asc text held in memory (read from a socket, an archive or a file
- * already in memory; loadSceneCloud parses files with it); \a name is used in error messages.
- * \throws FileError, EmptyCloudError as loadSceneCloud. */
+/** \brief Parse .xyz / .asc text that is already in memory (received over a socket, read from
+ * an archive or a capture program's pipe) by the rules loadSceneCloud gives for .xyz files,
+ * without writing it to a file first; loadSceneCloud reads .xyz files with it.
+ *
+ * \code
+ * bool colour = false;
+ * const auto cloud = pcl::icf::io::parseXyzText(received_bytes, "camera stream", &colour);
+ * \endcode
+ *
+ * \param[in] text the text, lines ended by '\n' or "\r\n"
+ * \param[in] name what error messages call the text ("scan.xyz" gives "scan.xyz:12: ...")
+ * \param[out] has_colour optional: true when the lines have six numbers (x y z r g b)
+ * \return an unorganized cloud (height 1) in the text's order and units, is_dense when every
+ * coordinate is finite; without colour every point is white
+ * \throws FileError naming the line for a malformed line, or when the text holds more than
+ * kMaxScenePoints points
+ * \throws EmptyCloudError when the text holds no point (only blank or comment lines). Unlike
+ * loadSceneCloud it returns a cloud whose points are all NaN: check is_dense or the points. */
 pcl::PointCloud<pcl::PointXYZRGBA>::Ptr parseXyzText(const std::string& text,
                                                      const std::string& name,
                                                      bool* has_colour = nullptr);

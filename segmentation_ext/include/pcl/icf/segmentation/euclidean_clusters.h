@@ -25,9 +25,9 @@ enum class ClusterMethod {
    * one pair of their points is within tolerance. No radius search per point: at the 2 cm
    * tolerance on the 640x480 scenes (50k-100k points above the table) it takes 13-19 ms where
    * pcl::EuclideanClusterExtraction takes 135-280 ms with OrganizedNeighbor and 300-650 ms with
-   * a kd-tree (bench/segmentation_bench.cpp). Its cost grows with the number of occupied cells,
-   * so at tolerances of 5 mm and less OrganizedNeighbor can be faster. Falls back to PclKdTree
-   * when the points span more than 2^20 cells along an axis. */
+   * a kd-tree (tools/pcl_icf_bench/micro/segmentation_bench.cpp). Its cost grows with the number
+   * of occupied cells, so at tolerances of 5 mm and less OrganizedNeighbor can be faster. Falls
+   * back to PclKdTree when the points span more than 2^20 cells along an axis. */
   Grid,
   /** pcl::EuclideanClusterExtraction with pcl::search::KdTree (FLANN), the reference. */
   PclKdTree,

@@ -107,6 +107,102 @@ pcl::icf::SearchStrategy parseStrategy(const std::string& option, const std::str
   }
 }
 
+/** The localizer's options (segmentation, search, colour, acceptance): true when \a a is one,
+ * its value read from \a args into \a p. \throws UsageError for a bad value. */
+bool parseLocalizerOption(const std::string& a, ArgumentReader& args,
+                          pcl::icf::localization::LocalizerParams& p) {
+  if (a == "--no-segment") {
+    args.noValue(a);
+    p.segment = false;
+  } else if (a == "--strategy")
+    p.icf.strategy = parseStrategy(a, args.value(a));
+  else if (a == "--fallback") {
+    const std::string v = args.value(a);
+    try {
+      p.icf.fallback = pcl::icf::parseFallbackPolicy(v);
+    } catch (const std::invalid_argument&) {
+      throw UsageError(a + ": '" + v + "' is not off, auto or always");
+    }
+  } else if (a == "--seed")
+    p.icf.seed = parseSeed(a, args.value(a));
+  else if (a == "--threads") {
+    const int t = static_cast<int>(parseInteger(a, args.value(a), 0, 1024));
+    p.threads = t;
+    p.icf.threads = t;
+  } else if (a == "--color" || a == "--colour") {
+    const std::string v = args.value(a);
+    if (v == "none")
+      p.colour.expected.reset();
+    else
+      p.colour.expected = parseColour(a, v);
+  } else if (a == "--color-weight" || a == "--colour-weight")
+    p.colour.weight = parseNumber(a, args.value(a));
+  else if (a == "--cluster-tolerance")
+    p.segmentation.cluster.tolerance = parsePositive(a, args.value(a));
+  else if (a == "--min-cluster-size")
+    p.segmentation.cluster.min_size =
+        static_cast<std::size_t>(parseInteger(a, args.value(a), 1, 100000000));
+  else if (a == "--inlier-distance")
+    p.icf.acceptance.inlier_distance = static_cast<float>(parsePositive(a, args.value(a)));
+  else if (a == "--min-coverage")
+    p.icf.acceptance.min_surface_coverage = parseFraction(a, args.value(a));
+  else if (a == "--max-rmse")
+    p.icf.acceptance.max_rmse = parsePositive(a, args.value(a));
+  else if (a == "--gate-distance")
+    p.gate_distance = static_cast<float>(parsePositive(a, args.value(a)));
+  else if (a == "--gate-max-far")
+    p.gate_max_far_points = static_cast<int>(parseInteger(a, args.value(a), 0, 100000000));
+  else if (a == "--no-gate") {
+    args.noValue(a);
+    p.far_point_gate = false;
+  } else if (a == "--gate") {
+    args.noValue(a);
+    p.far_point_gate = true;
+  } else if (a == "--min-confidence")
+    p.min_confidence = parseFraction(a, args.value(a));
+  else if (a == "--max-instances")
+    p.max_instances = static_cast<int>(parseInteger(a, args.value(a), 1, 1000));
+  else
+    return false;
+  return true;
+}
+
+/** The mode (one scene, --batch or --track) from the positional arguments, and the options
+ * that belong to another mode refused. \throws UsageError. */
+void checkMode(ToolOptions& o, const std::vector<std::string>& positional, bool idle_given) {
+  if (!o.track.empty()) {
+    if (positional.empty() || !o.batch.empty() || !o.out_dir.empty() || !o.json.empty() ||
+        !o.output.empty() || !o.render.empty() || o.view || o.render_all || o.output_all)
+      throw UsageError("--track FRAMES takes one or more MODELs and no other input or output");
+    o.models = positional;
+    if (idle_given && !o.follow)
+      throw UsageError("--idle-seconds is for --follow");
+    if (o.idle_seconds > 86400.0)
+      throw UsageError("--idle-seconds: at most 86400 (a day)");
+  } else if (!o.render_dir.empty() || o.follow || idle_given) {
+    throw UsageError("--render-dir, --follow and --idle-seconds need --track FRAMES");
+  } else if (!o.batch.empty()) {
+    if (positional.size() != 1)
+      throw UsageError("--batch SCENES takes exactly one MODEL argument, got " +
+                       std::to_string(positional.size()));
+    o.model = positional[0];
+    if (o.out_dir.empty())
+      throw UsageError("--batch needs --out-dir DIR for its JSON files");
+    if (!o.json.empty() || !o.output.empty() || !o.render.empty() || o.view)
+      throw UsageError(
+          "--json, --output, --render and --view are for one scene; with --batch "
+          "use --out-dir, --render-all and --output-all");
+  } else {
+    if (positional.size() != 2)
+      throw UsageError(positional.size() < 2 ? "expected SCENE and MODEL (see -h)"
+                                             : "too many arguments: expected SCENE MODEL");
+    o.scene = positional[0];
+    o.model = positional[1];
+    if (!o.out_dir.empty() || o.render_all || o.output_all)
+      throw UsageError("--out-dir, --render-all and --output-all need --batch");
+  }
+}
+
 }  // namespace
 
 ToolOptions parseToolOptions(int argc, const char* const* argv) {
@@ -120,63 +216,14 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
     if (a == "-h" || a == "--help") {
       o.help = true;
       return o;
-    } else if (a == "--units")
+    } else if (parseLocalizerOption(a, args, p))
+      continue;
+    else if (a == "--units")
       o.units = parseUnits(a, args.value(a));
     else if (a == "--model-units")
       o.model_units = parseUnits(a, args.value(a));
     else if (a == "--camera")
       o.camera = parseCameraPose(a, args.value(a));
-    else if (a == "--no-segment") {
-      args.noValue(a);
-      p.segment = false;
-    } else if (a == "--strategy")
-      p.icf.strategy = parseStrategy(a, args.value(a));
-    else if (a == "--fallback") {
-      const std::string v = args.value(a);
-      try {
-        p.icf.fallback = pcl::icf::parseFallbackPolicy(v);
-      } catch (const std::invalid_argument&) {
-        throw UsageError(a + ": '" + v + "' is not off, auto or always");
-      }
-    } else if (a == "--seed")
-      p.icf.seed = parseSeed(a, args.value(a));
-    else if (a == "--threads") {
-      const int t = static_cast<int>(parseInteger(a, args.value(a), 0, 1024));
-      p.threads = t;
-      p.icf.threads = t;
-    } else if (a == "--color" || a == "--colour") {
-      const std::string v = args.value(a);
-      if (v == "none")
-        p.colour.expected.reset();
-      else
-        p.colour.expected = parseColour(a, v);
-    } else if (a == "--color-weight" || a == "--colour-weight")
-      p.colour.weight = parseNumber(a, args.value(a));
-    else if (a == "--cluster-tolerance")
-      p.segmentation.cluster.tolerance = parsePositive(a, args.value(a));
-    else if (a == "--min-cluster-size")
-      p.segmentation.cluster.min_size =
-          static_cast<std::size_t>(parseInteger(a, args.value(a), 1, 100000000));
-    else if (a == "--inlier-distance")
-      p.icf.acceptance.inlier_distance = static_cast<float>(parsePositive(a, args.value(a)));
-    else if (a == "--min-coverage")
-      p.icf.acceptance.min_surface_coverage = parseFraction(a, args.value(a));
-    else if (a == "--max-rmse")
-      p.icf.acceptance.max_rmse = parsePositive(a, args.value(a));
-    else if (a == "--gate-distance")
-      p.gate_distance = static_cast<float>(parsePositive(a, args.value(a)));
-    else if (a == "--gate-max-far")
-      p.gate_max_far_points = static_cast<int>(parseInteger(a, args.value(a), 0, 100000000));
-    else if (a == "--no-gate") {
-      args.noValue(a);
-      p.far_point_gate = false;
-    } else if (a == "--gate") {
-      args.noValue(a);
-      p.far_point_gate = true;
-    } else if (a == "--min-confidence")
-      p.min_confidence = parseFraction(a, args.value(a));
-    else if (a == "--max-instances")
-      p.max_instances = static_cast<int>(parseInteger(a, args.value(a), 1, 1000));
     else if (a == "--json")
       o.json = args.value(a);
     else if (a == "--output")
@@ -230,37 +277,7 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
       positional.push_back(a);
   }
 
-  if (!o.track.empty()) {
-    if (positional.empty() || !o.batch.empty() || !o.out_dir.empty() || !o.json.empty() ||
-        !o.output.empty() || !o.render.empty() || o.view || o.render_all || o.output_all)
-      throw UsageError("--track FRAMES takes one or more MODELs and no other input or output");
-    o.models = positional;
-    if (idle_given && !o.follow)
-      throw UsageError("--idle-seconds is for --follow");
-    if (o.idle_seconds > 86400.0)
-      throw UsageError("--idle-seconds: at most 86400 (a day)");
-  } else if (!o.render_dir.empty() || o.follow || idle_given) {
-    throw UsageError("--render-dir, --follow and --idle-seconds need --track FRAMES");
-  } else if (!o.batch.empty()) {
-    if (positional.size() != 1)
-      throw UsageError("--batch SCENES takes exactly one MODEL argument, got " +
-                       std::to_string(positional.size()));
-    o.model = positional[0];
-    if (o.out_dir.empty())
-      throw UsageError("--batch needs --out-dir DIR for its JSON files");
-    if (!o.json.empty() || !o.output.empty() || !o.render.empty() || o.view)
-      throw UsageError(
-          "--json, --output, --render and --view are for one scene; with --batch "
-          "use --out-dir, --render-all and --output-all");
-  } else {
-    if (positional.size() != 2)
-      throw UsageError(positional.size() < 2 ? "expected SCENE and MODEL (see -h)"
-                                             : "too many arguments: expected SCENE MODEL");
-    o.scene = positional[0];
-    o.model = positional[1];
-    if (!o.out_dir.empty() || o.render_all || o.output_all)
-      throw UsageError("--out-dir, --render-all and --output-all need --batch");
-  }
+  checkMode(o, positional, idle_given);
   if (p.colour.expected && !(p.colour.weight >= 0.0))
     throw UsageError("--color-weight must be >= 0");
   try {

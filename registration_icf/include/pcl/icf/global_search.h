@@ -17,8 +17,9 @@ namespace icf {
 
 /** \brief Parameters of the fast global search (doc/icf.md section 4). Lengths in scene units. */
 struct GlobalSearchParams {
-  /** Rotations sampled uniformly over SO(3) (super-Fibonacci); 3000 gives a covering radius
-   * of about 8.4 degrees, well inside the refinement's basin. */
+  /** Rotations sampled uniformly over SO(3) (super-Fibonacci); 3000 leave no rotation
+   * more than about 15 degrees of turning from a sample (doc/icf.md section 4), inside the
+   * refinement's basin. */
   std::size_t rotations = 3000;
   /** Scene points scored per hypothesis (a seeded random subset). */
   std::size_t subsample = 256;

@@ -58,6 +58,25 @@ inline double readFieldValue(const std::uint8_t* p, std::uint8_t datatype) {
   });
 }
 
+/** \brief True for the datatypes readFieldValue reads exactly: the integers of 8 to 32 bits,
+ * FLOAT32 and FLOAT64. BOOL, INT64, UINT64 and unknown types are not (it would take them as
+ * FLOAT32): a coordinate field of such a type is refused, not read as zeros. */
+inline bool isExactNumberField(std::uint8_t datatype) {
+  switch (datatype) {
+    case pcl::PCLPointField::INT8:
+    case pcl::PCLPointField::UINT8:
+    case pcl::PCLPointField::INT16:
+    case pcl::PCLPointField::UINT16:
+    case pcl::PCLPointField::INT32:
+    case pcl::PCLPointField::UINT32:
+    case pcl::PCLPointField::FLOAT32:
+    case pcl::PCLPointField::FLOAT64:
+      return true;
+    default:
+      return false;
+  }
+}
+
 /** \brief Writes \a v at \a out (need not be aligned) as a field of type \a datatype: a C++
  * conversion (integers: \a v must lie in the type's range, fractions are cut; FLOAT32:
  * rounded, beyond float's range +-inf). */

@@ -2,6 +2,8 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
+#include <pcl_icf_internal/point_field.h>
+
 #include <pcl/common/io.h>
 #include <pcl/icf/face_mesh.h>
 #include <pcl/point_cloud.h>
@@ -111,53 +113,6 @@ std::vector<std::uint32_t> distinctLoop(const std::vector<std::uint32_t>& in) {
   return out;
 }
 
-/** One coordinate of any numeric PCL field type as a double; false for another type. */
-bool readCoordinate(const std::uint8_t* p, std::uint8_t datatype, double& v) {
-  switch (datatype) {
-    case pcl::PCLPointField::INT8:
-      v = static_cast<std::int8_t>(*p);
-      return true;
-    case pcl::PCLPointField::UINT8:
-      v = *p;
-      return true;
-    case pcl::PCLPointField::INT16: {
-      std::int16_t x;
-      std::memcpy(&x, p, 2);
-      v = x;
-      return true;
-    }
-    case pcl::PCLPointField::UINT16: {
-      std::uint16_t x;
-      std::memcpy(&x, p, 2);
-      v = x;
-      return true;
-    }
-    case pcl::PCLPointField::INT32: {
-      std::int32_t x;
-      std::memcpy(&x, p, 4);
-      v = x;
-      return true;
-    }
-    case pcl::PCLPointField::UINT32: {
-      std::uint32_t x;
-      std::memcpy(&x, p, 4);
-      v = x;
-      return true;
-    }
-    case pcl::PCLPointField::FLOAT32: {
-      float x;
-      std::memcpy(&x, p, 4);
-      v = x;
-      return true;
-    }
-    case pcl::PCLPointField::FLOAT64:
-      std::memcpy(&v, p, 8);
-      return true;
-    default:
-      return false;
-  }
-}
-
 /** The vertices of any x, y, z field layout (float, double or integer: PLY files carry all of
  * them; pcl::fromPCLPointCloud2 would silently leave non-float coordinates at zero), checked
  * against the data actually present. */
@@ -175,9 +130,11 @@ std::vector<Eigen::Vector3f> readVertices(const pcl::PolygonMesh& mesh, float sc
   const std::size_t row_step = cloud.height > 1 ? cloud.row_step : n * cloud.point_step;
   for (const pcl::PCLPointField* f : axes) {
     const std::size_t size = pcl::getFieldSize(f->datatype);
-    if (size == 0 || f->offset + size > cloud.point_step)
-      throw InvalidMeshError("mesh vertex field '" + f->name +
-                             "' has an unknown type or lies outside the point");
+    if (!internal::isExactNumberField(f->datatype) || f->offset + size > cloud.point_step)
+      throw InvalidMeshError("mesh vertex field '" + f->name + "' (PCL datatype " +
+                             std::to_string(f->datatype) +
+                             ") is not an integer of 8 to 32 bits or a float, or lies outside "
+                             "the point");
   }
   if (n > 0 && (row_step < static_cast<std::size_t>(cloud.width) * cloud.point_step ||
                 cloud.data.size() < (cloud.height - 1) * row_step +
@@ -191,8 +148,7 @@ std::vector<Eigen::Vector3f> readVertices(const pcl::PolygonMesh& mesh, float sc
         cloud.data.data() + (i / cloud.width) * row_step + (i % cloud.width) * cloud.point_step;
     Eigen::Vector3f v;
     for (int k = 0; k < 3; ++k) {
-      double c = 0.0;
-      readCoordinate(point + axes[k]->offset, axes[k]->datatype, c);
+      const double c = internal::readFieldValue(point + axes[k]->offset, axes[k]->datatype);
       v[k] = static_cast<float>(c * scale);
     }
     vertices.push_back(v);

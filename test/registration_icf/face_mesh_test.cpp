@@ -9,10 +9,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace {
 
-using pcl::icf::test::meshOf;
+using pcl::icf::synthetic::meshOf;
 
 const std::vector<Eigen::Vector3f> kSquare = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
 
@@ -73,6 +75,60 @@ TEST(FaceMesh, MeshesThatCannotBeModelsThrowClearly) {
   pcl::icf::FaceMeshOptions bad;
   bad.scale = -1.f;
   EXPECT_THROW(pcl::icf::FaceMesh::build(meshOf(kSquare, {{0, 1, 2}}), bad), std::invalid_argument);
+}
+
+/** kSquare's vertices as x, y, z fields of \a datatype (4 bytes apart, or 8 for 64-bit types),
+ * values written as that type: the layout PLY files with integer or double coordinates give. */
+pcl::PolygonMesh squareWithCoordinateType(std::uint8_t datatype) {
+  pcl::PolygonMesh mesh = meshOf(kSquare, {{0, 1, 2, 3}});
+  const std::uint32_t size =
+      datatype == pcl::PCLPointField::FLOAT64 || datatype == pcl::PCLPointField::INT64 ? 8 : 4;
+  pcl::PCLPointCloud2& c = mesh.cloud;
+  c.fields.clear();
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    pcl::PCLPointField f;
+    f.name = std::string(1, static_cast<char>('x' + k));
+    f.offset = k * size;
+    f.datatype = datatype;
+    f.count = 1;
+    c.fields.push_back(f);
+  }
+  c.point_step = 3 * size;
+  c.row_step = c.point_step * c.width;
+  c.data.assign(static_cast<std::size_t>(c.row_step) * c.height, 0);
+  for (std::size_t i = 0; i < kSquare.size(); ++i)
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      std::uint8_t* p = c.data.data() + i * c.point_step + k * size;
+      const auto v = static_cast<std::int32_t>(kSquare[i][static_cast<int>(k)]);
+      if (datatype == pcl::PCLPointField::FLOAT64) {
+        const double d = v;
+        std::memcpy(p, &d, 8);
+      } else if (datatype == pcl::PCLPointField::INT64) {
+        const std::int64_t d = v;
+        std::memcpy(p, &d, 8);
+      } else {
+        std::memcpy(p, &v, 4);  // INT32
+      }
+    }
+  return mesh;
+}
+
+TEST(FaceMesh, CoordinatesOfEveryNumberTypeReadAlikeAndOthersRefused) {
+  // Oracle: the float mesh of the same square. INT32 and FLOAT64 coordinates give the same
+  // face (area 1, exact: the values are small integers); INT64, which the one field reader
+  // (pcl_icf_internal/point_field.h) cannot read exactly, is refused with a clear error rather
+  // than read as zeros (which built a degenerate mesh before).
+  for (const std::uint8_t t : {pcl::PCLPointField::INT32, pcl::PCLPointField::FLOAT64}) {
+    const auto mesh = pcl::icf::FaceMesh::build(squareWithCoordinateType(t));
+    EXPECT_EQ(mesh.size(), 1u) << "datatype " << int(t);
+    EXPECT_DOUBLE_EQ(mesh.totalArea(), 1.0) << "datatype " << int(t);
+  }
+  try {
+    pcl::icf::FaceMesh::build(squareWithCoordinateType(pcl::PCLPointField::INT64));
+    FAIL() << "a 64-bit integer coordinate must be refused";
+  } catch (const pcl::icf::InvalidMeshError& e) {
+    EXPECT_NE(std::string(e.what()).find("'x'"), std::string::npos) << e.what();
+  }
 }
 
 TEST(FaceMesh, ScaleConvertsUnits) {

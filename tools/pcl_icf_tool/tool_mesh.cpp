@@ -6,48 +6,47 @@
 
 #include "tool_output.h"
 
+#include <pcl_icf_internal/point_field.h>
+
+#include <pcl/common/io.h>
 #include <pcl/conversions.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
-#include <cstring>
 #include <limits>
 
 namespace pcl_icf_tool {
 
 namespace {
 
-/** x, y, z of vertex \a i of a mesh's cloud (FLOAT32 or FLOAT64 fields). */
-Eigen::Vector3d vertex(const pcl::PCLPointCloud2& cloud, const int offsets[3],
-                       const bool doubles[3], std::size_t i) {
-  Eigen::Vector3d v;
-  const std::uint8_t* p = cloud.data.data() + i * cloud.point_step;
-  for (int k = 0; k < 3; ++k) {
-    if (doubles[k]) {
-      double d;
-      std::memcpy(&d, p + offsets[k], sizeof d);
-      v[k] = d;
-    } else {
-      float f;
-      std::memcpy(&f, p + offsets[k], sizeof f);
-      v[k] = f;
-    }
-  }
-  return v;
-}
+/** Where x, y and z lie in each vertex of a mesh's cloud: any numeric field type (PLY files
+ * carry float, double and integer coordinates), read with the libraries' one field reader. */
+struct VertexLayout {
+  const pcl::PCLPointField* axes[3] = {nullptr, nullptr, nullptr};
 
-bool xyzLayout(const pcl::PCLPointCloud2& cloud, int offsets[3], bool doubles[3]) {
-  const char* names[3] = {"x", "y", "z"};
-  for (int k = 0; k < 3; ++k) {
-    offsets[k] = -1;
-    for (const auto& f : cloud.fields)
-      if (f.name == names[k] && (f.datatype == pcl::PCLPointField::FLOAT32 ||
-                                 f.datatype == pcl::PCLPointField::FLOAT64)) {
-        offsets[k] = static_cast<int>(f.offset);
-        doubles[k] = f.datatype == pcl::PCLPointField::FLOAT64;
-      }
-    if (offsets[k] < 0)
+  /** x, y, z of vertex \a i. */
+  Eigen::Vector3d at(const pcl::PCLPointCloud2& cloud, std::size_t i) const {
+    const std::uint8_t* p = cloud.data.data() + i * cloud.point_step;
+    Eigen::Vector3d v;
+    for (int k = 0; k < 3; ++k)
+      v[k] = pcl::icf::internal::readFieldValue(p + axes[k]->offset, axes[k]->datatype);
+    return v;
+  }
+};
+
+/** The layout of \a cloud's x, y, z fields; false when one is missing, of a type that is not a
+ * number, outside the point, or the data is shorter than its vertices need. */
+bool vertexLayout(const pcl::PCLPointCloud2& cloud, VertexLayout& layout) {
+  int k = 0;
+  for (const char* name : {"x", "y", "z"}) {
+    const int index = pcl::getFieldIndex(cloud, name);
+    if (index < 0)
       return false;
+    const pcl::PCLPointField& f = cloud.fields[static_cast<std::size_t>(index)];
+    if (!pcl::icf::internal::isExactNumberField(f.datatype) ||
+        f.offset + pcl::getFieldSize(f.datatype) > cloud.point_step)
+      return false;
+    layout.axes[k++] = &f;
   }
   const std::size_t n = static_cast<std::size_t>(cloud.width) * cloud.height;
   return cloud.data.size() >= n * cloud.point_step;
@@ -57,17 +56,16 @@ bool xyzLayout(const pcl::PCLPointCloud2& cloud, int offsets[3], bool doubles[3]
 
 pcl::PolygonMesh posedMesh(const pcl::PolygonMesh& mesh, const Eigen::Matrix4d& pose,
                            double scale) {
-  int offsets[3];
-  bool doubles[3];
-  if (!xyzLayout(mesh.cloud, offsets, doubles))
-    throw OutputError("the mesh has no float x, y, z vertex fields");
+  VertexLayout layout;
+  if (!vertexLayout(mesh.cloud, layout))
+    throw OutputError("the mesh has no numeric x, y, z vertex fields");
   const std::size_t n = static_cast<std::size_t>(mesh.cloud.width) * mesh.cloud.height;
   pcl::PointCloud<pcl::PointXYZ> vertices;
   vertices.resize(n);
   const Eigen::Matrix3d r = pose.topLeftCorner<3, 3>();
   const Eigen::Vector3d t = pose.topRightCorner<3, 1>();
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d v = r * (scale * vertex(mesh.cloud, offsets, doubles, i)) + t;
+    const Eigen::Vector3d v = r * (scale * layout.at(mesh.cloud, i)) + t;
     vertices[i].getVector3fMap() = v.cast<float>();
   }
   pcl::PolygonMesh out;
@@ -77,16 +75,15 @@ pcl::PolygonMesh posedMesh(const pcl::PolygonMesh& mesh, const Eigen::Matrix4d& 
 }
 
 double meshExtent(const pcl::PolygonMesh& mesh) {
-  int offsets[3];
-  bool doubles[3];
-  if (!xyzLayout(mesh.cloud, offsets, doubles))
+  VertexLayout layout;
+  if (!vertexLayout(mesh.cloud, layout))
     return 0.0;
   const std::size_t n = static_cast<std::size_t>(mesh.cloud.width) * mesh.cloud.height;
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d hi = -lo;
   bool any = false;
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d v = vertex(mesh.cloud, offsets, doubles, i);
+    const Eigen::Vector3d v = layout.at(mesh.cloud, i);
     if (!v.allFinite())
       continue;
     lo = lo.cwiseMin(v);

@@ -9,7 +9,7 @@
 
 namespace pcl {
 namespace icf {
-namespace test {
+namespace synthetic {
 
 namespace {
 
@@ -457,6 +457,6 @@ TabletopScene makeTabletopScene(const std::vector<SyntheticModel>& objects,
   return scene;
 }
 
-}  // namespace test
+}  // namespace synthetic
 }  // namespace icf
 }  // namespace pcl

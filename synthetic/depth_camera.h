@@ -26,7 +26,7 @@
 
 namespace pcl {
 namespace icf {
-namespace test {
+namespace synthetic {
 
 /** \brief Pinhole intrinsics in pixels (defaults: a 640 x 480 Kinect-like camera). */
 struct CameraIntrinsics {
@@ -178,6 +178,6 @@ TabletopScene makeTabletopScene(const std::vector<SyntheticModel>& objects,
                                 const CameraIntrinsics& intrinsics, const ScanNoise& noise,
                                 double camera_height = 0.6, double camera_tilt_deg = 45.0);
 
-}  // namespace test
+}  // namespace synthetic
 }  // namespace icf
 }  // namespace pcl

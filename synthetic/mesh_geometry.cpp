@@ -9,7 +9,7 @@
 
 namespace pcl {
 namespace icf {
-namespace test {
+namespace synthetic {
 
 pcl::PolygonMesh meshOf(const std::vector<Eigen::Vector3f>& vertices,
                         const std::vector<Face>& faces) {
@@ -136,6 +136,6 @@ pcl::PolygonMesh transformMesh(const pcl::PolygonMesh& mesh, const Eigen::Isomet
   return makeMesh(vertices, faces);
 }
 
-}  // namespace test
+}  // namespace synthetic
 }  // namespace icf
 }  // namespace pcl

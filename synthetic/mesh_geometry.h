@@ -17,7 +17,7 @@
 
 namespace pcl {
 namespace icf {
-namespace test {
+namespace synthetic {
 
 /** \brief A polygon as a list of vertex indices (pcl::index_t, as in pcl::Vertices). */
 using Face = std::vector<pcl::index_t>;
@@ -62,6 +62,6 @@ void appendMesh(pcl::PolygonMesh& a, const pcl::PolygonMesh& b);
 /** \brief Returns a copy of the mesh with every vertex transformed by pose. */
 pcl::PolygonMesh transformMesh(const pcl::PolygonMesh& mesh, const Eigen::Isometry3d& pose);
 
-}  // namespace test
+}  // namespace synthetic
 }  // namespace icf
 }  // namespace pcl

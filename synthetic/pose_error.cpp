@@ -9,7 +9,7 @@
 
 namespace pcl {
 namespace icf {
-namespace test {
+namespace synthetic {
 
 namespace {
 
@@ -157,6 +157,6 @@ double modelDiameter(const pcl::PolygonMesh& mesh) {
   return std::sqrt(best);
 }
 
-}  // namespace test
+}  // namespace synthetic
 }  // namespace icf
 }  // namespace pcl

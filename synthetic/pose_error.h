@@ -16,7 +16,7 @@
 
 namespace pcl {
 namespace icf {
-namespace test {
+namespace synthetic {
 
 /** \brief Rotational self-symmetry of a model, expressed in the model frame.
  *
@@ -106,6 +106,6 @@ double addS(const pcl::PolygonMesh& mesh, const Eigen::Isometry3d& est,
 /** \brief Largest distance between two vertices of the mesh, in metres (brute force O(N^2)). */
 double modelDiameter(const pcl::PolygonMesh& mesh);
 
-}  // namespace test
+}  // namespace synthetic
 }  // namespace icf
 }  // namespace pcl

@@ -10,7 +10,7 @@
 
 namespace pcl {
 namespace icf {
-namespace test {
+namespace synthetic {
 
 namespace {
 
@@ -249,6 +249,6 @@ ClutterScene makeClutterScene(const SyntheticModel& target,
                            std::to_string(spec.max_target_visible) + "]");
 }
 
-}  // namespace test
+}  // namespace synthetic
 }  // namespace icf
 }  // namespace pcl

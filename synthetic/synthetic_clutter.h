@@ -20,7 +20,7 @@
 
 namespace pcl {
 namespace icf {
-namespace test {
+namespace synthetic {
 
 /** \brief How a cluttered desk is drawn. */
 struct ClutterSpec {
@@ -67,6 +67,6 @@ ClutterScene makeClutterScene(const SyntheticModel& target,
                               const ClutterSpec& spec = {},
                               const CameraIntrinsics& intrinsics = {});
 
-}  // namespace test
+}  // namespace synthetic
 }  // namespace icf
 }  // namespace pcl

@@ -7,7 +7,7 @@
 
 namespace pcl {
 namespace icf {
-namespace test {
+namespace synthetic {
 
 namespace {
 
@@ -224,6 +224,6 @@ std::vector<std::string> allModelNames() {
   return {"Box5", "EisKaffe", "YellowRoundSalt", "Amicelly", "Cup", "Statue"};
 }
 
-}  // namespace test
+}  // namespace synthetic
 }  // namespace icf
 }  // namespace pcl

@@ -19,7 +19,7 @@
 
 namespace pcl {
 namespace icf {
-namespace test {
+namespace synthetic {
 
 /** \brief Axis-aligned box with side lengths sx, sy, sz (metres) centred at the origin.
  *  24 vertices (4 per face, not shared between faces) and 6 quads. */
@@ -98,6 +98,6 @@ std::vector<std::string> thesisModelNames();
 /** \brief All models known to thesisModel: the four thesis models, then Cup and Statue. */
 std::vector<std::string> allModelNames();
 
-}  // namespace test
+}  // namespace synthetic
 }  // namespace icf
 }  // namespace pcl

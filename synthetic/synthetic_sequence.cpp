@@ -7,7 +7,7 @@
 
 namespace pcl {
 namespace icf {
-namespace test {
+namespace synthetic {
 
 Eigen::Vector3d SequenceObject::placement(int frame) const {
   const double f = static_cast<double>(frame);
@@ -59,6 +59,6 @@ SequenceFrame renderSequenceFrame(const SequenceSpec& spec, int frame) {
   return out;
 }
 
-}  // namespace test
+}  // namespace synthetic
 }  // namespace icf
 }  // namespace pcl

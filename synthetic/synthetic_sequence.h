@@ -18,7 +18,7 @@
 
 namespace pcl {
 namespace icf {
-namespace test {
+namespace synthetic {
 
 /** \brief One object of a sequence and where it stands, frame by frame. */
 struct SequenceObject {
@@ -73,6 +73,6 @@ struct SequenceFrame {
  * makeTabletopScene refuses. */
 SequenceFrame renderSequenceFrame(const SequenceSpec& spec, int frame);
 
-}  // namespace test
+}  // namespace synthetic
 }  // namespace icf
 }  // namespace pcl

@@ -24,7 +24,7 @@ namespace pcl {
 namespace icf {
 namespace localization {
 
-const char* toString(LocalizationStatus status) {
+std::string toString(LocalizationStatus status) {
   switch (status) {
     case LocalizationStatus::Found:
       return "Found";
@@ -522,8 +522,8 @@ Localization segmentationStopped(const SceneView& view,
                    status == segmentation::TabletopStatus::TooFewPoints ||
                    status == segmentation::TabletopStatus::SceneUnitsSuspect;
   out.status = bad ? LocalizationStatus::BadScene : LocalizationStatus::NoClusters;
-  out.message = std::string(toString(status)) +
-                (segmentation.message.empty() ? "" : ": " + segmentation.message);
+  out.message =
+      toString(status) + (segmentation.message.empty() ? "" : ": " + segmentation.message);
   if (status == segmentation::TabletopStatus::NoCluster) {
     const std::size_t beyond = pointsBeyondTheTable(view, segmentation, params);
     if (beyond >= params.segmentation.cluster.min_size) {

@@ -103,7 +103,7 @@ void TabletopParams::validate() const {
          "must be finite and >= 0 (0 = off)");
 }
 
-const char* toString(TablePlaneStatus status) {
+std::string toString(TablePlaneStatus status) {
   switch (status) {
     case TablePlaneStatus::Found:
       return "Found";
@@ -115,7 +115,7 @@ const char* toString(TablePlaneStatus status) {
   return "unknown TablePlaneStatus";
 }
 
-const char* toString(AboveTableStatus status) {
+std::string toString(AboveTableStatus status) {
   switch (status) {
     case AboveTableStatus::Ok:
       return "Ok";
@@ -127,7 +127,7 @@ const char* toString(AboveTableStatus status) {
   return "unknown AboveTableStatus";
 }
 
-const char* toString(ClusterMethod method) {
+std::string toString(ClusterMethod method) {
   switch (method) {
     case ClusterMethod::Grid:
       return "Grid";
@@ -139,7 +139,7 @@ const char* toString(ClusterMethod method) {
   return "unknown ClusterMethod";
 }
 
-const char* toString(TabletopStatus status) {
+std::string toString(TabletopStatus status) {
   switch (status) {
     case TabletopStatus::Ok:
       return "Ok";

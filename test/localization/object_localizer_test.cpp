@@ -49,11 +49,11 @@ int majorityLabel(const std::vector<int>& labels, const pcl::PointIndices& clust
   return best;
 }
 
-test::SyntheticModel scenarioModel(const std::string& name) {
+synthetic::SyntheticModel scenarioModel(const std::string& name) {
   if (name == "BigBox")
-    return {"BigBox", test::makeBox(0.22, 0.15, 0.09), test::Symmetry::box(0.22, 0.15, 0.09),
-            Eigen::Vector3f(0.2f, 0.6f, 0.2f)};
-  return test::thesisModel(name);
+    return {"BigBox", synthetic::makeBox(0.22, 0.15, 0.09),
+            synthetic::Symmetry::box(0.22, 0.15, 0.09), Eigen::Vector3f(0.2f, 0.6f, 0.2f)};
+  return synthetic::thesisModel(name);
 }
 
 class ThesisScenarios : public ::testing::TestWithParam<Scenario> {};
@@ -62,16 +62,16 @@ class ThesisScenarios : public ::testing::TestWithParam<Scenario> {};
 // noise; 5 mm and 3 degrees as for single clusters.
 TEST_P(ThesisScenarios, FindsTheTargetInTheRightClusterAtTheRightPose) {
   const Scenario& s = GetParam();
-  std::vector<test::SyntheticModel> models;
+  std::vector<synthetic::SyntheticModel> models;
   for (const auto& name : s.objects)
     models.push_back(scenarioModel(name));
   // Sensor noise as in the single-cluster tests, without their 5% uniform outliers: spread
   // over the whole table they would chain every object into one cluster at the thesis's 2 cm
   // tolerance, which no real depth camera does (its outliers sit at depth edges).
-  test::ScanNoise noise;
+  synthetic::ScanNoise noise;
   noise.outlier_ratio = 0.0;
-  const test::TabletopScene scene =
-      test::makeTabletopScene(models, s.placements, test::CameraIntrinsics(), noise);
+  const synthetic::TabletopScene scene =
+      synthetic::makeTabletopScene(models, s.placements, synthetic::CameraIntrinsics(), noise);
   const IcfModel::ConstPtr model = IcfModel::build(models.front().mesh);
   LocalizerParams params;
   if (s.use_colour)
@@ -94,8 +94,8 @@ TEST_P(ThesisScenarios, FindsTheTargetInTheRightClusterAtTheRightPose) {
   ASSERT_EQ(result.clusters.size(), s.objects.size()) << "one cluster per object";
   const auto& best = result.clusters[static_cast<std::size_t>(result.best)];
   EXPECT_EQ(majorityLabel(scene.scan.labels, best.indices), 1) << "the target's cluster";
-  const auto error = test::poseError(Eigen::Isometry3d(best.icf.object_pose.cast<double>()),
-                                     scene.poses.front(), models.front().symmetry);
+  const auto error = synthetic::poseError(Eigen::Isometry3d(best.icf.object_pose.cast<double>()),
+                                          scene.poses.front(), models.front().symmetry);
   EXPECT_LE(error.translation, 0.005);
   EXPECT_LE(error.rotation_deg, 3.0);
 }
@@ -121,7 +121,7 @@ INSTANTIATE_TEST_SUITE_P(
     [](const auto& info) { return info.param.name; });
 
 TEST(Localizer, BadScenesGiveAStatus) {
-  const IcfModel::ConstPtr model = IcfModel::build(test::thesisModel("Box5").mesh);
+  const IcfModel::ConstPtr model = IcfModel::build(synthetic::thesisModel("Box5").mesh);
   pcl::PointCloud<pcl::PointXYZ> empty;
   EXPECT_EQ(localization::localizeObject(empty, *model).status, LocalizationStatus::BadScene);
   pcl::PointCloud<pcl::PointXYZ> three;
@@ -143,13 +143,14 @@ TEST(Localizer, BadScenesGiveAStatus) {
 // the moved cloud is rounded to float in the new frame and moved back, so points differ from the
 // original by about 1e-7 m; the pose may follow by a few times that, far below 1e-4 m / 0.01 deg.
 TEST(Localizer, SameAnswerInAnyCameraFrame) {
-  const std::vector<test::SyntheticModel> models = {
-      test::thesisModel("Box5"), test::thesisModel("Cup"), test::thesisModel("Statue")};
-  test::ScanNoise noise;
+  const std::vector<synthetic::SyntheticModel> models = {synthetic::thesisModel("Box5"),
+                                                         synthetic::thesisModel("Cup"),
+                                                         synthetic::thesisModel("Statue")};
+  synthetic::ScanNoise noise;
   noise.outlier_ratio = 0.0;
-  const test::TabletopScene scene =
-      test::makeTabletopScene(models, {{0.0, 0.0, 0.4}, {-0.2, 0.05, 0.0}, {0.2, -0.03, 0.7}},
-                              test::CameraIntrinsics(), noise);
+  const synthetic::TabletopScene scene =
+      synthetic::makeTabletopScene(models, {{0.0, 0.0, 0.4}, {-0.2, 0.05, 0.0}, {0.2, -0.03, 0.7}},
+                                   synthetic::CameraIntrinsics(), noise);
   const IcfModel::ConstPtr model = IcfModel::build(models.front().mesh);
   LocalizerParams params;
   params.threads = 1;
@@ -177,7 +178,7 @@ TEST(Localizer, SameAnswerInAnyCameraFrame) {
       moved.clusters[static_cast<std::size_t>(moved.best)].icf.object_pose.cast<double>());
   // Box5 is symmetric: a flip explains the depth exactly as well, and a 1e-7 m change of the
   // points may choose the other one; modulo the symmetry the poses must agree.
-  const auto error = test::poseError(got, expected, models.front().symmetry);
+  const auto error = synthetic::poseError(got, expected, models.front().symmetry);
   EXPECT_LE(error.translation, 1e-4);
   EXPECT_LE(error.rotation_deg, 0.01);
   // The table plane in the base frame: the table points lie on it.
@@ -193,7 +194,7 @@ TEST(Localizer, SameAnswerInAnyCameraFrame) {
   EXPECT_EQ(from_viewpoint.best, moved.best);
   // The orientation went through a float quaternion: the same rounding argument as above, and
   // the same tolerance modulo Box5's symmetry (clang's TSan build chose the other flip).
-  const auto viewpoint_error = test::poseError(
+  const auto viewpoint_error = synthetic::poseError(
       Eigen::Isometry3d(from_viewpoint.clusters[static_cast<std::size_t>(from_viewpoint.best)]
                             .icf.object_pose.cast<double>()),
       got, models.front().symmetry);
@@ -202,7 +203,7 @@ TEST(Localizer, SameAnswerInAnyCameraFrame) {
 }
 
 TEST(Localizer, BadCameraPosesAreRefused) {
-  const IcfModel::ConstPtr model = IcfModel::build(test::thesisModel("Box5").mesh);
+  const IcfModel::ConstPtr model = IcfModel::build(synthetic::thesisModel("Box5").mesh);
   pcl::PointCloud<pcl::PointXYZ> cloud;
   for (int i = 0; i < 100; ++i)
     cloud.push_back(pcl::PointXYZ(0.01f * (i % 10), 0.01f * (i / 10), 1.f));
@@ -227,11 +228,11 @@ TEST(Localizer, BadCameraPosesAreRefused) {
 // stands on the table's far side from that camera, hidden from it by the table top, so the
 // camera pose must be wrong: BadScene naming the table's side, never "not found".
 TEST(Localizer, ACameraBelowTheTableIsRefused) {
-  const test::SyntheticModel box = test::thesisModel("Box5");
-  test::ScanNoise noise;
+  const synthetic::SyntheticModel box = synthetic::thesisModel("Box5");
+  synthetic::ScanNoise noise;
   noise.outlier_ratio = 0.0;
-  const test::TabletopScene scene =
-      test::makeTabletopScene({box}, {{0.0, 0.0, 0.4}}, test::CameraIntrinsics(), noise);
+  const synthetic::TabletopScene scene =
+      synthetic::makeTabletopScene({box}, {{0.0, 0.0, 0.4}}, synthetic::CameraIntrinsics(), noise);
   const IcfModel::ConstPtr model = IcfModel::build(box.mesh);
   const Eigen::Vector3f n = scene.table_plane.head<3>();
   const Eigen::Vector3f below = -2.f * scene.table_plane[3] * n;  // the origin mirrored
@@ -256,15 +257,15 @@ TEST(Localizer, ACameraBelowTheTableIsRefused) {
 // centroid, so the cluster may count as a single object; the target must still be found at
 // its pose (5 mm / 3 degrees, as for the scenarios above) whichever way the cluster is judged.
 TEST(Localizer, TargetWithASmallTouchingNeighbour) {
-  const test::SyntheticModel salt = test::thesisModel("YellowRoundSalt");
-  const test::SyntheticModel cube{"Cube3cm", test::makeBox(0.03, 0.03, 0.03),
-                                  test::Symmetry::box(0.03, 0.03, 0.03),
-                                  Eigen::Vector3f(0.8f, 0.1f, 0.1f)};
-  test::ScanNoise noise;
+  const synthetic::SyntheticModel salt = synthetic::thesisModel("YellowRoundSalt");
+  const synthetic::SyntheticModel cube{"Cube3cm", synthetic::makeBox(0.03, 0.03, 0.03),
+                                       synthetic::Symmetry::box(0.03, 0.03, 0.03),
+                                       Eigen::Vector3f(0.8f, 0.1f, 0.1f)};
+  synthetic::ScanNoise noise;
   noise.outlier_ratio = 0.0;  // as in the scenarios above
   // Salt radius 4.5 cm at x = 0; the cube's near face at x = 0.046: 1 mm apart.
-  const test::TabletopScene scene = test::makeTabletopScene(
-      {salt, cube}, {{0.0, 0.0, 0.0}, {0.061, 0.0, 0.0}}, test::CameraIntrinsics(), noise);
+  const synthetic::TabletopScene scene = synthetic::makeTabletopScene(
+      {salt, cube}, {{0.0, 0.0, 0.0}, {0.061, 0.0, 0.0}}, synthetic::CameraIntrinsics(), noise);
   std::size_t salt_points = 0, cube_points = 0;
   for (const int label : scene.scan.labels) {
     salt_points += label == 1;
@@ -289,8 +290,8 @@ TEST(Localizer, TargetWithASmallTouchingNeighbour) {
             << " candidates\n";
   const auto& best = result.clusters[static_cast<std::size_t>(result.best)];
   EXPECT_EQ(majorityLabel(scene.scan.labels, best.indices), 1);
-  const auto error = test::poseError(Eigen::Isometry3d(best.icf.object_pose.cast<double>()),
-                                     scene.poses.front(), salt.symmetry);
+  const auto error = synthetic::poseError(Eigen::Isometry3d(best.icf.object_pose.cast<double>()),
+                                          scene.poses.front(), salt.symmetry);
   EXPECT_LE(error.translation, 0.005);
   EXPECT_LE(error.rotation_deg, 3.0);
 }
@@ -328,11 +329,11 @@ TEST(Localizer, RanksInstancesEachPointInOneAtMost) {
 class TwoCopies : public ::testing::TestWithParam<std::vector<Eigen::Vector3d>> {};
 
 TEST_P(TwoCopies, GiveTwoInstances) {
-  const test::SyntheticModel box = test::thesisModel("Box5");
-  test::ScanNoise noise;
+  const synthetic::SyntheticModel box = synthetic::thesisModel("Box5");
+  synthetic::ScanNoise noise;
   noise.outlier_ratio = 0.0;  // as in the scenarios above
-  const test::TabletopScene scene =
-      test::makeTabletopScene({box, box}, GetParam(), test::CameraIntrinsics(), noise);
+  const synthetic::TabletopScene scene =
+      synthetic::makeTabletopScene({box, box}, GetParam(), synthetic::CameraIntrinsics(), noise);
   const IcfModel::ConstPtr model = IcfModel::build(box.mesh);
   LocalizerParams params;
   params.max_instances = 2;
@@ -354,8 +355,8 @@ TEST_P(TwoCopies, GiveTwoInstances) {
     labels.insert(label);
     ASSERT_TRUE(label == 1 || label == 2);
     const auto error =
-        test::poseError(Eigen::Isometry3d(c.icf.object_pose.cast<double>()),
-                        scene.poses[static_cast<std::size_t>(label - 1)], box.symmetry);
+        synthetic::poseError(Eigen::Isometry3d(c.icf.object_pose.cast<double>()),
+                             scene.poses[static_cast<std::size_t>(label - 1)], box.symmetry);
     EXPECT_LE(error.translation, 0.005) << "instance on object " << label;
     EXPECT_LE(error.rotation_deg, 3.0) << "instance on object " << label;
   }
@@ -370,11 +371,11 @@ TEST_P(TwoCopies, GiveTwoInstances) {
 // finds it, within 5 mm / 3 degrees; the explained copy is not reported. An index outside the
 // scene is refused, naming the field.
 TEST_P(TwoCopies, ExplainedPointsAreLeftOutOfTheSearch) {
-  const test::SyntheticModel box = test::thesisModel("Box5");
-  test::ScanNoise noise;
+  const synthetic::SyntheticModel box = synthetic::thesisModel("Box5");
+  synthetic::ScanNoise noise;
   noise.outlier_ratio = 0.0;
-  const test::TabletopScene scene =
-      test::makeTabletopScene({box, box}, GetParam(), test::CameraIntrinsics(), noise);
+  const synthetic::TabletopScene scene =
+      synthetic::makeTabletopScene({box, box}, GetParam(), synthetic::CameraIntrinsics(), noise);
   const IcfModel::ConstPtr model = IcfModel::build(box.mesh);
   LocalizerParams params;
   for (std::size_t i = 0; i < scene.scan.labels.size(); ++i)
@@ -386,8 +387,8 @@ TEST_P(TwoCopies, ExplainedPointsAreLeftOutOfTheSearch) {
     for (const auto i : c.indices.indices)
       ASSERT_NE(scene.scan.labels[static_cast<std::size_t>(i)], 2) << "an explained point";
   const auto& best = loc.clusters[static_cast<std::size_t>(loc.best)];
-  const auto error = test::poseError(Eigen::Isometry3d(best.icf.object_pose.cast<double>()),
-                                     scene.poses[0], box.symmetry);
+  const auto error = synthetic::poseError(Eigen::Isometry3d(best.icf.object_pose.cast<double>()),
+                                          scene.poses[0], box.symmetry);
   EXPECT_LE(error.translation, 0.005);
   EXPECT_LE(error.rotation_deg, 3.0);
 
@@ -469,11 +470,12 @@ TEST_P(YcbObjects, FoundInTheMergedClusterWithin1cm) {
       hi = hi.cwiseMax(q);
     }
   const Eigen::Vector3d sides = hi - lo;
-  const double t_err = test::poseError(estimate * box, truth * box,
-                                       test::Symmetry::box(sides.x(), sides.y(), sides.z()))
-                           .translation;
-  const double adds = test::addS(mesh, estimate, truth);
-  const double diameter = test::modelDiameter(mesh);
+  const double t_err =
+      synthetic::poseError(estimate * box, truth * box,
+                           synthetic::Symmetry::box(sides.x(), sides.y(), sides.z()))
+          .translation;
+  const double adds = synthetic::addS(mesh, estimate, truth);
+  const double diameter = synthetic::modelDiameter(mesh);
   RecordProperty("translation_mm", std::to_string(1e3 * t_err));
   RecordProperty("adds_over_diameter", std::to_string(adds / diameter));
   std::cout << object << ": translation error " << 1e3 * t_err << " mm, ADD-S " << 1e3 * adds

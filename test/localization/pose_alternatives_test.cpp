@@ -33,14 +33,15 @@ View viewOf(const pcl::PolygonMesh& mesh) {
                    Eigen::AngleAxisd(-0.4, Eigen::Vector3d::UnitY()))
                       .toRotationMatrix();
   pose.translation() = Eigen::Vector3d(0.02, -0.01, 0.75);
-  test::SceneObject object;
+  synthetic::SceneObject object;
   object.mesh = &mesh;
   object.pose = pose;
   object.label = 1;
-  test::ScanNoise noise;
+  synthetic::ScanNoise noise;
   noise.outlier_ratio = 0.0;
   noise.seed = 3;
-  const test::Scan scan = test::renderScan({object}, test::CameraIntrinsics(), noise);
+  const synthetic::Scan scan =
+      synthetic::renderScan({object}, synthetic::CameraIntrinsics(), noise);
   for (const auto& p : *scan.cloud)
     if (std::isfinite(p.z))
       v.points.emplace_back(p.x, p.y, p.z);
@@ -56,7 +57,7 @@ View viewOf(const pcl::PolygonMesh& mesh) {
 // The box's axes, longest first, are its x, y, z (14 x 9 x 5 cm): 1e-3 in direction, its
 // sides to float rounding.
 TEST(PoseAlternatives, PrincipalAxesOfABox) {
-  const IcfModel::ConstPtr box = IcfModel::build(test::makeBox(0.14, 0.09, 0.05));
+  const IcfModel::ConstPtr box = IcfModel::build(synthetic::makeBox(0.14, 0.09, 0.05));
   const PrincipalAxes a = principalAxes(*box);
   EXPECT_LT(a.centre.norm(), 1e-5f);
   EXPECT_NEAR(std::abs(a.axes.col(0).x()), 1.f, 1e-3f);
@@ -71,7 +72,7 @@ TEST(PoseAlternatives, PrincipalAxesOfABox) {
 // A box's three 180-degree flips explain the depth as well as its pose (within the default
 // margin, 0.05) and are distinct poses: all three are reported, each a 180-degree turn.
 TEST(PoseAlternatives, ABoxHasThreeFlips) {
-  const View v = viewOf(test::makeBox(0.14, 0.09, 0.05));
+  const View v = viewOf(synthetic::makeBox(0.14, 0.09, 0.05));
   ASSERT_GT(v.found.confidence, 0.8);
   const auto alts =
       turnedAlternatives(*v.model, principalAxes(*v.model), v.points, v.pose, v.found, v.image);
@@ -85,7 +86,7 @@ TEST(PoseAlternatives, ABoxHasThreeFlips) {
 // A cup turned about its axis is the same cup; upside down or on its side it is not: every
 // alternative must turn about the cup's axis (model z, within 3 degrees).
 TEST(PoseAlternatives, ACupTurnsOnlyAboutItsAxis) {
-  const View v = viewOf(test::makeCup());
+  const View v = viewOf(synthetic::makeCup());
   ASSERT_GT(v.found.confidence, 0.8);
   const auto alts =
       turnedAlternatives(*v.model, principalAxes(*v.model), v.points, v.pose, v.found, v.image);

@@ -46,9 +46,9 @@ void expectSameAnswers(const FaceMesh& mesh, int count, std::uint64_t seed, floa
 }
 
 TEST(ClosestFaceIndex, MatchesBruteForceOnThesisModels) {
-  for (const auto& name : pcl::icf::test::thesisModelNames()) {
+  for (const auto& name : pcl::icf::synthetic::thesisModelNames()) {
     SCOPED_TRACE(name);
-    const auto mesh = FaceMesh::build(pcl::icf::test::thesisModel(name).mesh);
+    const auto mesh = FaceMesh::build(pcl::icf::synthetic::thesisModel(name).mesh);
     expectSameAnswers(mesh, 3000, 11, std::numeric_limits<float>::infinity());
     expectSameAnswers(mesh, 3000, 12, 0.01f);  // 1 cm radius: some points find nothing
   }
@@ -64,7 +64,7 @@ TEST(ClosestFaceIndex, MatchesBruteForceOnTheBunny) {
 }
 
 TEST(ClosestFaceIndex, RadiusBoundsTheSearch) {
-  const auto mesh = FaceMesh::build(pcl::icf::test::makeBox(0.2, 0.2, 0.2));
+  const auto mesh = FaceMesh::build(pcl::icf::synthetic::makeBox(0.2, 0.2, 0.2));
   const EmbreeClosestFaceIndex index(mesh);
   const Eigen::Vector3f p(0.f, 0.f, 0.15f);  // 5 cm above the top face
   EXPECT_FALSE(index.closestFace(p, 0.049f).found());
@@ -76,7 +76,7 @@ TEST(ClosestFaceIndex, RadiusBoundsTheSearch) {
 }
 
 TEST(ClosestFaceIndex, ConcurrentQueriesGiveTheSameAnswers) {
-  const auto mesh = FaceMesh::build(pcl::icf::test::thesisModel("YellowRoundSalt").mesh);
+  const auto mesh = FaceMesh::build(pcl::icf::synthetic::thesisModel("YellowRoundSalt").mesh);
   const EmbreeClosestFaceIndex index(mesh);
   std::vector<Eigen::Vector3f> points;
   std::mt19937_64 rng(5);
@@ -98,7 +98,7 @@ TEST(ClosestFaceIndex, ConcurrentQueriesGiveTheSameAnswers) {
 }
 
 TEST(ResidualDirection, FaceNormalInsideAndOffsetOnEdges) {
-  const auto mesh = FaceMesh::build(pcl::icf::test::makeBox(0.2, 0.2, 0.2));
+  const auto mesh = FaceMesh::build(pcl::icf::synthetic::makeBox(0.2, 0.2, 0.2));
   const BruteForceClosestFace brute(mesh);
   const Eigen::Vector3f above(0.f, 0.f, 0.2f);
   auto hit = brute.closestFace(above);

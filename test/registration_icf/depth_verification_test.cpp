@@ -17,23 +17,23 @@ namespace {
 using namespace pcl::icf;
 
 struct RenderedBox {
-  test::SyntheticModel model = test::thesisModel("Box5");
+  synthetic::SyntheticModel model = synthetic::thesisModel("Box5");
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  test::Scan scan;
+  synthetic::Scan scan;
   std::vector<Eigen::Vector3f> points;
 };
 
-RenderedBox renderBox(const test::ScanNoise& noise, double tilt = 0.6) {
+RenderedBox renderBox(const synthetic::ScanNoise& noise, double tilt = 0.6) {
   RenderedBox r;
   r.pose.linear() = (Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitX()) *
                      Eigen::AngleAxisd(-tilt / 1.5, Eigen::Vector3d::UnitY()))
                         .toRotationMatrix();
   r.pose.translation() = Eigen::Vector3d(0.03, -0.02, 0.8);
-  test::SceneObject object;
+  synthetic::SceneObject object;
   object.mesh = &r.model.mesh;
   object.pose = r.pose;
   object.label = 1;
-  r.scan = test::renderScan({object}, test::CameraIntrinsics(), noise);
+  r.scan = synthetic::renderScan({object}, synthetic::CameraIntrinsics(), noise);
   for (const auto& p : *r.scan.cloud)
     r.points.emplace_back(p.x, p.y, p.z);
   return r;
@@ -42,10 +42,10 @@ RenderedBox renderBox(const test::ScanNoise& noise, double tilt = 0.6) {
 // The simulator's camera is an exact pinhole: the least-squares fit recovers it to float
 // rounding (1e-3 pixel on a 640-pixel image).
 TEST(DepthImage, FitsTheIntrinsicsOfAnOrganizedCloud) {
-  const RenderedBox box = renderBox(test::ScanNoise::none());
+  const RenderedBox box = renderBox(synthetic::ScanNoise::none());
   double rms = 0.0;
   const PinholeIntrinsics k = DepthImage::fitIntrinsics(box.points, 640, 480, rms);
-  const test::CameraIntrinsics truth;
+  const synthetic::CameraIntrinsics truth;
   EXPECT_NEAR(k.fx, truth.fx, 1e-2);
   EXPECT_NEAR(k.fy, truth.fy, 1e-2);
   EXPECT_NEAR(k.cx, truth.cx, 1e-2);
@@ -57,7 +57,7 @@ TEST(DepthImage, FitsTheIntrinsicsOfAnOrganizedCloud) {
 // float rounding of a ray-plane intersection at 0.8 m); the covered sets differ only on
 // silhouette pixels whose centre lies within float rounding of an edge (under 2% of them).
 TEST(DepthVerification, RendersWhatTheRayCasterSees) {
-  const RenderedBox box = renderBox(test::ScanNoise::none());
+  const RenderedBox box = renderBox(synthetic::ScanNoise::none());
   const IcfModel::ConstPtr model = IcfModel::build(box.model.mesh);
   PinholeIntrinsics k;
   const ModelDepth m = renderModelDepth(*model, box.pose.cast<float>(), k);
@@ -88,7 +88,7 @@ TEST(DepthVerification, RendersWhatTheRayCasterSees) {
 // face carries on past its silhouette (on the model's surface extended) around much of it:
 // continuation above max_continuation (0.2), confidence 0.
 TEST(DepthVerification, TellsARightPoseFromWrongOnes) {
-  test::ScanNoise noise;
+  synthetic::ScanNoise noise;
   noise.seed = 7;
   const RenderedBox box = renderBox(noise);
   const IcfModel::ConstPtr model = IcfModel::build(box.model.mesh);
@@ -106,8 +106,9 @@ TEST(DepthVerification, TellsARightPoseFromWrongOnes) {
   EXPECT_GT(floating.seen_through, 0.8);
   EXPECT_EQ(floating.confidence, 0.0);
 
-  const test::SyntheticModel small{"HalfBox", test::makeBox(0.07, 0.045, 0.05),
-                                   test::Symmetry::box(0.07, 0.045, 0.05), Eigen::Vector3f::Ones()};
+  const synthetic::SyntheticModel small{"HalfBox", synthetic::makeBox(0.07, 0.045, 0.05),
+                                        synthetic::Symmetry::box(0.07, 0.045, 0.05),
+                                        Eigen::Vector3f::Ones()};
   const IcfModel::ConstPtr half = IcfModel::build(small.mesh);
   // Same orientation and the same front face (z = +0.025 in both boxes' frames).
   const RenderedBox facing = renderBox(noise, 0.15);
@@ -119,18 +120,19 @@ TEST(DepthVerification, TellsARightPoseFromWrongOnes) {
 
 /** Box5 standing on a table (no outliers): the scan's points, the table's and the box's. */
 struct BoxOnTable {
-  test::SyntheticModel box = test::thesisModel("Box5");
-  test::TabletopScene scene;
+  synthetic::SyntheticModel box = synthetic::thesisModel("Box5");
+  synthetic::TabletopScene scene;
   std::vector<Eigen::Vector3f> points;
   pcl::Indices table, object;
 };
 
 BoxOnTable boxOnTable() {
   BoxOnTable b;
-  test::ScanNoise noise;
+  synthetic::ScanNoise noise;
   noise.outlier_ratio = 0.0;
   noise.seed = 5;
-  b.scene = test::makeTabletopScene({b.box}, {{0.0, 0.0, 0.5}}, test::CameraIntrinsics(), noise);
+  b.scene = synthetic::makeTabletopScene({b.box}, {{0.0, 0.0, 0.5}}, synthetic::CameraIntrinsics(),
+                                         noise);
   for (std::size_t i = 0; i < b.scene.scan.cloud->size(); ++i) {
     const auto& p = (*b.scene.scan.cloud)[i];
     b.points.emplace_back(p.x, p.y, p.z);
@@ -145,10 +147,10 @@ BoxOnTable boxOnTable() {
 // about 2 cm of its 5 cm height on the faces the camera sees: more than 5% of its pixels.
 TEST(DepthVerification, AModelBeneathTheTableIsAConflict) {
   const BoxOnTable b = boxOnTable();
-  const test::TabletopScene& scene = b.scene;
+  const synthetic::TabletopScene& scene = b.scene;
   const std::vector<Eigen::Vector3f>& points = b.points;
   const pcl::Indices& table = b.table;
-  const test::SyntheticModel& box = b.box;
+  const synthetic::SyntheticModel& box = b.box;
   DepthImage image(points, PinholeIntrinsics());
   image.markBackground(points, table);
   const IcfModel::ConstPtr model = IcfModel::build(box.mesh);
@@ -171,13 +173,13 @@ TEST(DepthVerification, AModelBeneathTheTableIsAConflict) {
 // 3 sigma + 1.5% of the diameter: no depth measurement can tell them apart); under 5% of the
 // can's points.
 TEST(DepthVerification, PointsExplainedByAPoseAreItsOwn) {
-  const test::SyntheticModel box = test::thesisModel("Box5");
-  const test::SyntheticModel can = test::thesisModel("YellowRoundSalt");
-  test::ScanNoise noise;
+  const synthetic::SyntheticModel box = synthetic::thesisModel("Box5");
+  const synthetic::SyntheticModel can = synthetic::thesisModel("YellowRoundSalt");
+  synthetic::ScanNoise noise;
   noise.outlier_ratio = 0.0;
   noise.seed = 11;
-  const test::TabletopScene scene = test::makeTabletopScene(
-      {box, can}, {{-0.05, 0.0, 0.3}, {0.05, 0.0, 0.0}}, test::CameraIntrinsics(), noise);
+  const synthetic::TabletopScene scene = synthetic::makeTabletopScene(
+      {box, can}, {{-0.05, 0.0, 0.3}, {0.05, 0.0, 0.0}}, synthetic::CameraIntrinsics(), noise);
   std::vector<Eigen::Vector3f> points;
   for (const auto& p : *scene.scan.cloud)
     points.emplace_back(p.x, p.y, p.z);
@@ -210,9 +212,9 @@ TEST(DepthVerification, PointsExplainedByAPoseAreItsOwn) {
 // allowed, not a conflict; on the model's surface they are still no evidence for it.
 TEST(DepthVerification, ExplainedPointsInFrontOccludeWithoutConflict) {
   const BoxOnTable b = boxOnTable();
-  const test::TabletopScene& scene = b.scene;
+  const synthetic::TabletopScene& scene = b.scene;
   const std::vector<Eigen::Vector3f>& points = b.points;
-  const test::SyntheticModel& box = b.box;
+  const synthetic::SyntheticModel& box = b.box;
   DepthImage image(points, PinholeIntrinsics());
   image.markExplained(points, b.table);
   const IcfModel::ConstPtr model = IcfModel::build(box.mesh);

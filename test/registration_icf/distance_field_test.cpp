@@ -43,7 +43,7 @@ ErrorStats measure(const ClosestPointField& field, const EmbreeClosestFaceIndex&
 }
 
 TEST(ClosestPointField, ExactAboveTheMiddleOfAFace) {
-  const auto mesh = FaceMesh::build(pcl::icf::test::makeBox(0.2, 0.2, 0.2));
+  const auto mesh = FaceMesh::build(pcl::icf::synthetic::makeBox(0.2, 0.2, 0.2));
   const EmbreeClosestFaceIndex index(mesh);
   const ClosestPointField field(index);
   // Across the surface of the top face, away from its edges: |error| is rounding only.
@@ -52,9 +52,9 @@ TEST(ClosestPointField, ExactAboveTheMiddleOfAFace) {
 }
 
 TEST(ClosestPointField, WithinItsBoundNearTheSurface) {
-  for (const auto& name : pcl::icf::test::thesisModelNames()) {
+  for (const auto& name : pcl::icf::synthetic::thesisModelNames()) {
     SCOPED_TRACE(name);
-    const auto mesh = FaceMesh::build(pcl::icf::test::thesisModel(name).mesh);
+    const auto mesh = FaceMesh::build(pcl::icf::synthetic::thesisModel(name).mesh);
     const EmbreeClosestFaceIndex index(mesh);
     const ClosestPointField field(index);
     const ErrorStats e = measure(field, index, 0.03f, 20000, 21);
@@ -76,7 +76,7 @@ TEST(ClosestPointField, WithinItsBoundOnTheBunny) {
 }
 
 TEST(ClosestPointField, BeyondTheGridAtLeastTheMargin) {
-  const auto mesh = FaceMesh::build(pcl::icf::test::makeBox(0.2, 0.2, 0.2));
+  const auto mesh = FaceMesh::build(pcl::icf::synthetic::makeBox(0.2, 0.2, 0.2));
   const EmbreeClosestFaceIndex index(mesh);
   DistanceFieldParams params;
   params.margin = 0.05f;
@@ -86,7 +86,7 @@ TEST(ClosestPointField, BeyondTheGridAtLeastTheMargin) {
 }
 
 TEST(ClosestPointField, AbsurdParametersAreRejected) {
-  const auto mesh = FaceMesh::build(pcl::icf::test::makeBox(0.2, 0.2, 0.2));
+  const auto mesh = FaceMesh::build(pcl::icf::synthetic::makeBox(0.2, 0.2, 0.2));
   const EmbreeClosestFaceIndex index(mesh);
   DistanceFieldParams p;
   p.margin = -1.f;
@@ -100,7 +100,7 @@ TEST(ClosestPointField, AbsurdParametersAreRejected) {
 }
 
 TEST(ClosestPointField, ContentDoesNotDependOnThreads) {
-  const auto mesh = FaceMesh::build(pcl::icf::test::thesisModel("Amicelly").mesh);
+  const auto mesh = FaceMesh::build(pcl::icf::synthetic::thesisModel("Amicelly").mesh);
   const EmbreeClosestFaceIndex index(mesh);
   DistanceFieldParams one, two;
   one.threads = 1;

@@ -21,16 +21,16 @@
 
 namespace {
 
-using pcl::icf::test::CameraIntrinsics;
-using pcl::icf::test::ScanNoise;
-using pcl::icf::test::SyntheticModel;
+using pcl::icf::synthetic::CameraIntrinsics;
+using pcl::icf::synthetic::ScanNoise;
+using pcl::icf::synthetic::SyntheticModel;
 
-using Trial = pcl::icf::test::RandomView;
+using Trial = pcl::icf::synthetic::RandomView;
 
 /** A random pose in front of the camera (0.7 - 1.1 m) and its noisy view: noise 1.5 mm at
  * 1 m growing with depth^2, 5% outliers within +-5 cm along the ray. */
 Trial makeTrial(const SyntheticModel& model, std::uint64_t seed) {
-  return pcl::icf::test::randomView(model.mesh, seed);
+  return pcl::icf::synthetic::randomView(model.mesh, seed);
 }
 
 Eigen::Isometry3d toIsometry(const Eigen::Matrix4f& m) {
@@ -42,7 +42,7 @@ class ThesisModels : public ::testing::TestWithParam<std::string> {};
 // Tolerances: 5 mm and 3 degrees are the issue's bar, about 3x the sensor's noise at 1 m;
 // 95% of 50 trials allows 2 failures.
 TEST_P(ThesisModels, FastStrategyFindsThePoseWithoutAGuess) {
-  const SyntheticModel model = pcl::icf::test::thesisModel(GetParam());
+  const SyntheticModel model = pcl::icf::synthetic::thesisModel(GetParam());
   pcl::IterativeClosestFace<pcl::PointXYZ> icf;
   icf.setInputTarget(pcl::make_shared<pcl::PolygonMesh>(model.mesh));
   // Under the sanitizers (PCL_ICF_SANITIZED, set by the asan test preset) 8 trials check
@@ -56,7 +56,7 @@ TEST_P(ThesisModels, FastStrategyFindsThePoseWithoutAGuess) {
     pcl::PointCloud<pcl::PointXYZ> aligned;
     icf.align(aligned);
     const auto error =
-        pcl::icf::test::poseError(toIsometry(icf.getObjectPose()), t.truth, model.symmetry);
+        pcl::icf::synthetic::poseError(toIsometry(icf.getObjectPose()), t.truth, model.symmetry);
     const bool ok = error.translation <= 0.005 && error.rotation_deg <= 3.0;
     successes += ok;
     if (!ok || !icf.hasConverged())
@@ -82,11 +82,11 @@ INSTANTIATE_TEST_SUITE_P(IterativeClosestFace, ThesisModels,
 namespace {
 
 pcl::PolygonMesh::ConstPtr meshOf(const std::string& name) {
-  return pcl::make_shared<pcl::PolygonMesh>(pcl::icf::test::thesisModel(name).mesh);
+  return pcl::make_shared<pcl::PolygonMesh>(pcl::icf::synthetic::thesisModel(name).mesh);
 }
 
 TEST(IterativeClosestFace, WorksThroughARegistrationPointerBesideIcp) {
-  const SyntheticModel model = pcl::icf::test::thesisModel("Amicelly");
+  const SyntheticModel model = pcl::icf::synthetic::thesisModel("Amicelly");
   const Trial t = makeTrial(model, 7);
   auto icf = pcl::make_shared<pcl::IterativeClosestFace<pcl::PointXYZ>>();
   icf->setInputTarget(meshOf("Amicelly"));
@@ -111,7 +111,7 @@ TEST(IterativeClosestFace, WorksThroughARegistrationPointerBesideIcp) {
   const Eigen::Matrix4f T = registration->getFinalTransformation();
   EXPECT_TRUE((T * icf->getObjectPose()).isIdentity(1e-4f));
   const auto error =
-      pcl::icf::test::poseError(toIsometry(icf->getObjectPose()), t.truth, model.symmetry);
+      pcl::icf::synthetic::poseError(toIsometry(icf->getObjectPose()), t.truth, model.symmetry);
   EXPECT_LE(error.translation, 0.005);
   EXPECT_LE(error.rotation_deg, 3.0);
   // The aligned cloud is the source in the model frame: it lies on the model surface.
@@ -127,7 +127,7 @@ TEST(IterativeClosestFace, WorksThroughARegistrationPointerBesideIcp) {
 }
 
 TEST(IterativeClosestFace, GuessRefinesLocallyAndIdentityMeansSearch) {
-  const SyntheticModel model = pcl::icf::test::thesisModel("Box5");
+  const SyntheticModel model = pcl::icf::synthetic::thesisModel("Box5");
   const Trial t = makeTrial(model, 11);
   pcl::IterativeClosestFace<pcl::PointXYZ> icf;
   icf.setInputTarget(meshOf("Box5"));
@@ -139,7 +139,8 @@ TEST(IterativeClosestFace, GuessRefinesLocallyAndIdentityMeansSearch) {
   pcl::PointCloud<pcl::PointXYZ> aligned;
   icf.align(aligned, perturbed.inverse().matrix().cast<float>());
   EXPECT_EQ(icf.getResult().method, "guess+icf");
-  auto error = pcl::icf::test::poseError(toIsometry(icf.getObjectPose()), t.truth, model.symmetry);
+  auto error =
+      pcl::icf::synthetic::poseError(toIsometry(icf.getObjectPose()), t.truth, model.symmetry);
   EXPECT_LE(error.translation, 0.005);
   EXPECT_LE(error.rotation_deg, 3.0);
   icf.align(aligned);
@@ -147,7 +148,7 @@ TEST(IterativeClosestFace, GuessRefinesLocallyAndIdentityMeansSearch) {
 }
 
 TEST(IterativeClosestFace, SameSeedSameResultForAnyThreadCount) {
-  const Trial t = makeTrial(pcl::icf::test::thesisModel("YellowRoundSalt"), 3);
+  const Trial t = makeTrial(pcl::icf::synthetic::thesisModel("YellowRoundSalt"), 3);
   Eigen::Matrix4f poses[2];
   for (int threads : {1, 2}) {
     pcl::IterativeClosestFace<pcl::PointXYZ> icf;
@@ -166,7 +167,7 @@ TEST(IterativeClosestFace, ThesisStrategyOnAReducedBudget) {
   // The thesis's search with 5 x 20 x 20 instead of 50 x 100 x 20 evaluations, then refined:
   // it must return a finite pose, spend its budget deterministically and, on this easy view
   // of the box, end within the thesis's own accuracy (12-23 mm mean error, chapter 7).
-  const SyntheticModel model = pcl::icf::test::thesisModel("Box5");
+  const SyntheticModel model = pcl::icf::synthetic::thesisModel("Box5");
   const Trial t = makeTrial(model, 21);
   pcl::IterativeClosestFace<pcl::PointXYZ> icf;
   icf.setInputTarget(meshOf("Box5"));
@@ -184,7 +185,7 @@ TEST(IterativeClosestFace, ThesisStrategyOnAReducedBudget) {
   const Eigen::Matrix4f first = icf.getObjectPose();
   icf.align(aligned);
   EXPECT_EQ(first, icf.getObjectPose()) << "same seed, same result";
-  const auto error = pcl::icf::test::poseError(toIsometry(first), t.truth, model.symmetry);
+  const auto error = pcl::icf::synthetic::poseError(toIsometry(first), t.truth, model.symmetry);
   EXPECT_LE(error.translation, 0.023);
 }
 
@@ -192,8 +193,8 @@ TEST(IterativeClosestFace, ClusterHoldingAnotherObjectStillFindsTheTarget) {
   // The salt cylinder's view merged with a box's view 3 cm beside it: points far from the
   // model add nothing, and acceptance judges how much of the model's visible surface is
   // explained, so the merged cluster is accepted with the right pose.
-  const SyntheticModel salt = pcl::icf::test::thesisModel("YellowRoundSalt");
-  const SyntheticModel box = pcl::icf::test::thesisModel("Box5");
+  const SyntheticModel salt = pcl::icf::synthetic::thesisModel("YellowRoundSalt");
+  const SyntheticModel box = pcl::icf::synthetic::thesisModel("Box5");
   Eigen::Isometry3d salt_pose = Eigen::Isometry3d::Identity();
   salt_pose.translation() = Eigen::Vector3d(0.0, 0.0, 0.9);
   salt_pose.rotate(Eigen::AngleAxisd(1.2, Eigen::Vector3d(1, 0.3, 0).normalized()));
@@ -201,16 +202,16 @@ TEST(IterativeClosestFace, ClusterHoldingAnotherObjectStillFindsTheTarget) {
   box_pose.translation() = Eigen::Vector3d(0.13, 0.0, 0.92);
   box_pose.rotate(Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.2, 1, 0).normalized()));
   ScanNoise noise;
-  auto merged = pcl::icf::test::renderCluster(salt.mesh, salt_pose, CameraIntrinsics(), noise);
+  auto merged = pcl::icf::synthetic::renderCluster(salt.mesh, salt_pose, CameraIntrinsics(), noise);
   noise.seed = 2;
-  *merged += *pcl::icf::test::renderCluster(box.mesh, box_pose, CameraIntrinsics(), noise);
+  *merged += *pcl::icf::synthetic::renderCluster(box.mesh, box_pose, CameraIntrinsics(), noise);
   pcl::IterativeClosestFace<pcl::PointXYZ> icf;
   icf.setInputTarget(meshOf("YellowRoundSalt"));
   icf.setInputSource(merged);
   pcl::PointCloud<pcl::PointXYZ> aligned;
   icf.align(aligned);
   const auto error =
-      pcl::icf::test::poseError(toIsometry(icf.getObjectPose()), salt_pose, salt.symmetry);
+      pcl::icf::synthetic::poseError(toIsometry(icf.getObjectPose()), salt_pose, salt.symmetry);
   EXPECT_LE(error.translation, 0.005);
   EXPECT_LE(error.rotation_deg, 3.0);
   EXPECT_TRUE(icf.hasConverged()) << "coverage " << icf.getResult().quality.surface_coverage;
@@ -222,7 +223,7 @@ TEST(IterativeClosestFace, WrongModelLeavesTheClusterUnexplained) {
   // the model's visible surface (a cylinder's cap can lie on the box's face), so for a cluster
   // known to hold one object the thesis's gate is what rejects: far more than 5 points lie
   // beyond 27 mm. Either way most of the cluster is left unexplained.
-  const Trial t = makeTrial(pcl::icf::test::thesisModel("Box5"), 5);
+  const Trial t = makeTrial(pcl::icf::synthetic::thesisModel("Box5"), 5);
   pcl::IterativeClosestFace<pcl::PointXYZ> icf;
   icf.setInputTarget(meshOf("EisKaffe"));
   icf.setInputSource(t.cluster);
@@ -238,7 +239,7 @@ TEST(IterativeClosestFace, WrongModelLeavesTheClusterUnexplained) {
 }
 
 TEST(IterativeClosestFace, FarPointGateAcceptsTheRightModelOnASingleObjectCluster) {
-  const SyntheticModel model = pcl::icf::test::thesisModel("Box5");
+  const SyntheticModel model = pcl::icf::synthetic::thesisModel("Box5");
   const Trial t = makeTrial(model, 5);
   pcl::IterativeClosestFace<pcl::PointXYZ> icf;
   icf.setInputTarget(meshOf("Box5"));
@@ -255,14 +256,14 @@ TEST(IterativeClosestFace, FarPointGateAcceptsTheRightModelOnASingleObjectCluste
 }
 
 TEST(IterativeClosestFace, OrganizedCloudWithNaNsAndColourTypes) {
-  const SyntheticModel model = pcl::icf::test::thesisModel("Box5");
+  const SyntheticModel model = pcl::icf::synthetic::thesisModel("Box5");
   std::mt19937_64 rng(8);
-  pcl::icf::test::SceneObject object;
+  pcl::icf::synthetic::SceneObject object;
   object.mesh = &model.mesh;
-  object.pose = pcl::icf::test::randomTabletopPose(rng);
+  object.pose = pcl::icf::synthetic::randomTabletopPose(rng);
   object.rgb = model.rgb;
   object.label = 1;
-  const auto scan = pcl::icf::test::renderScan({object}, CameraIntrinsics(), ScanNoise());
+  const auto scan = pcl::icf::synthetic::renderScan({object}, CameraIntrinsics(), ScanNoise());
   ASSERT_FALSE(scan.cloud->is_dense);  // organized, NaN background
   pcl::IterativeClosestFace<pcl::PointXYZRGB> icf;
   icf.setInputTarget(meshOf("Box5"));
@@ -272,7 +273,7 @@ TEST(IterativeClosestFace, OrganizedCloudWithNaNsAndColourTypes) {
   EXPECT_TRUE(icf.hasConverged());
   EXPECT_LT(icf.getResult().points, scan.cloud->size());
   const auto error =
-      pcl::icf::test::poseError(toIsometry(icf.getObjectPose()), object.pose, model.symmetry);
+      pcl::icf::synthetic::poseError(toIsometry(icf.getObjectPose()), object.pose, model.symmetry);
   EXPECT_LE(error.translation, 0.005);
   EXPECT_LE(error.rotation_deg, 3.0);
 }
@@ -307,7 +308,7 @@ TEST(IterativeClosestFace, BadInputGivesAClearStatusOrException) {
   EXPECT_EQ(icf.getResult().status, pcl::icf::IcfStatus::TooFewPoints);
   EXPECT_FALSE(icf.hasConverged());
   // A NaN in the guess.
-  const Trial t = makeTrial(pcl::icf::test::thesisModel("Box5"), 4);
+  const Trial t = makeTrial(pcl::icf::synthetic::thesisModel("Box5"), 4);
   icf.setInputSource(t.cluster);
   Eigen::Matrix4f guess = Eigen::Matrix4f::Identity();
   guess(0, 3) = std::numeric_limits<float>::quiet_NaN();
@@ -338,7 +339,7 @@ TEST(IterativeClosestFace, BadInputGivesAClearStatusOrException) {
 // seen on two faces): within 0.5 mm and 0.25 degrees, a third of the sensor's 1.5 mm noise.
 // 200 coarse points force the coarse stage on every view (400+ points).
 TEST(IcfParams, CoarseToFineRefinementLandsWhereFullResolutionDoes) {
-  const SyntheticModel box = pcl::icf::test::thesisModel("Box5");
+  const SyntheticModel box = pcl::icf::synthetic::thesisModel("Box5");
   const auto model = pcl::icf::IcfModel::build(box.mesh);
   for (std::uint64_t seed = 3000; seed < 3006; ++seed) {
     const Trial t = makeTrial(box, seed);
@@ -357,7 +358,7 @@ TEST(IcfParams, CoarseToFineRefinementLandsWhereFullResolutionDoes) {
          {std::tuple{uncapped, 1e-4, 0.05}, std::tuple{capped, 5e-4, 0.25}}) {
       const auto b = pcl::icf::estimatePose(*model, points, Eigen::Vector3f::Zero(), params);
       const auto error =
-          pcl::icf::test::poseError(toIsometry(b.object_pose), toIsometry(a.object_pose), {});
+          pcl::icf::synthetic::poseError(toIsometry(b.object_pose), toIsometry(a.object_pose), {});
       SCOPED_TRACE("seed " + std::to_string(seed) + ", " + std::to_string(points.size()) +
                    " points, fine_iterations " + std::to_string(params.fine_iterations));
       EXPECT_LE(error.translation, metres);
@@ -374,7 +375,7 @@ TEST(IcfParams, CoarseToFineRefinementLandsWhereFullResolutionDoes) {
 // refinement_skipped, and under Auto the SAC fallback does not run after it; with a guess it
 // is never asked.
 TEST(IcfParams, StartCheckSkipsOnlyTheRefinementItRefuses) {
-  const SyntheticModel box = pcl::icf::test::thesisModel("Box5");
+  const SyntheticModel box = pcl::icf::synthetic::thesisModel("Box5");
   const auto model = pcl::icf::IcfModel::build(box.mesh);
   const Trial t = makeTrial(box, 3100);
   std::vector<Eigen::Vector3f> points;
@@ -406,8 +407,8 @@ TEST(IcfParams, StartCheckSkipsOnlyTheRefinementItRefuses) {
   EXPECT_TRUE(no.scene_to_model.isApprox(asked.front().matrix(), 0.f));
   // The start the check saw is where the unchecked refinement began: within its 5 mm / 3 degree
   // reach of the final pose.
-  const auto start_error = pcl::icf::test::poseError(toIsometry(no.object_pose),
-                                                     toIsometry(plain.object_pose), box.symmetry);
+  const auto start_error = pcl::icf::synthetic::poseError(
+      toIsometry(no.object_pose), toIsometry(plain.object_pose), box.symmetry);
   EXPECT_LE(start_error.translation, 0.005);
   EXPECT_LE(start_error.rotation_deg, 3.0);
 
@@ -441,7 +442,7 @@ TEST(IcfParams, StartCheckSkipsOnlyTheRefinementItRefuses) {
 // bar (the moved points lie beyond the refinement's 2 cm and the 1 cm inlier distance, and the
 // pose does not move), and the fallback runs.
 TEST(IcfParams, SeenThroughRejectsAPoseTheCameraSeesThrough) {
-  const SyntheticModel box = pcl::icf::test::thesisModel("Box5");
+  const SyntheticModel box = pcl::icf::synthetic::thesisModel("Box5");
   const auto model = pcl::icf::IcfModel::build(box.mesh);
   const Trial t = makeTrial(box, 3100);
   std::vector<Eigen::Vector3f> view;
@@ -484,7 +485,7 @@ TEST(IcfParams, SeenThroughRejectsAPoseTheCameraSeesThrough) {
   EXPECT_NEAR(patched.quality.seen_through, moved_share, 0.5 * moved_share);
   EXPECT_GE(patched.quality.surface_coverage, params.acceptance.min_surface_coverage);
   const auto error =
-      pcl::icf::test::poseError(toIsometry(patched.object_pose), t.truth, box.symmetry);
+      pcl::icf::synthetic::poseError(toIsometry(patched.object_pose), t.truth, box.symmetry);
   EXPECT_LE(error.translation, 0.005);
   EXPECT_LE(error.rotation_deg, 3.0);
 
@@ -563,8 +564,8 @@ CloudN::Ptr boxView(const SyntheticModel& model, std::uint64_t seed, Eigen::Isom
   noise.seed = seed;
   pcl::PointCloud<pcl::PointXYZ>::Ptr xyz;
   do {
-    truth = pcl::icf::test::randomTabletopPose(rng);
-    xyz = pcl::icf::test::renderCluster(model.mesh, truth, CameraIntrinsics(), noise);
+    truth = pcl::icf::synthetic::randomTabletopPose(rng);
+    xyz = pcl::icf::synthetic::renderCluster(model.mesh, truth, CameraIntrinsics(), noise);
   } while (xyz->size() < 500);
   auto cloud = pcl::make_shared<CloudN>();
   pcl::copyPointCloud(*xyz, *cloud);
@@ -608,7 +609,7 @@ double bruteForceMeanSquared(const pcl::PolygonMesh& mesh, const CloudN& source,
  * so the in-plane position rests on a few edge points). */
 void expectRefined(pcl::Registration<PointN, PointN>& reg, const Eigen::Isometry3d& truth,
                    const SyntheticModel& model) {
-  const auto error = pcl::icf::test::poseError(
+  const auto error = pcl::icf::synthetic::poseError(
       toIsometry(Eigen::Matrix4f(reg.getFinalTransformation().inverse())), truth, model.symmetry);
   EXPECT_LE(error.translation, 0.001) << 1e3 * error.translation << " mm";
   EXPECT_LE(error.rotation_deg, 0.3);
@@ -616,7 +617,7 @@ void expectRefined(pcl::Registration<PointN, PointN>& reg, const Eigen::Isometry
 
 /** ICF on Box5 behind a Registration pointer, its source a fresh view (boxView). */
 struct BoxSetup {
-  SyntheticModel model = pcl::icf::test::thesisModel("Box5");
+  SyntheticModel model = pcl::icf::synthetic::thesisModel("Box5");
   Eigen::Isometry3d truth;
   CloudN::Ptr source;
   IcfN::Ptr icf = pcl::make_shared<IcfN>();
@@ -732,7 +733,7 @@ TEST(IterativeClosestFaceDropIn, MaxCorrespondenceDistanceBoundsTheRefinement) {
   // the nearest point's brute-force distance to the mesh, no point has a partner (ICP's "not
   // converged": fewer than 3 correspondences) and the pose stays; with 15 cm the refinement
   // pulls it in.
-  const SyntheticModel model = pcl::icf::test::thesisModel("Box5");
+  const SyntheticModel model = pcl::icf::synthetic::thesisModel("Box5");
   Eigen::Isometry3d truth;
   const CloudN::Ptr source = boxView(model, 33, truth);
   const Eigen::Matrix4f guess =
@@ -764,7 +765,7 @@ TEST(IterativeClosestFaceDropIn, EuclideanFitnessEpsilonIsRelative) {
   // With the step criteria off (translation epsilon 0, rotation cosine 1), only the fitness
   // criterion can stop the refinement before max_iterations: off (negative, PCL's) it runs all
   // 30; at 5% relative change it stops soon after the Tukey radius is final (iteration 5).
-  const SyntheticModel model = pcl::icf::test::thesisModel("Box5");
+  const SyntheticModel model = pcl::icf::synthetic::thesisModel("Box5");
   Eigen::Isometry3d truth;
   const CloudN::Ptr source = boxView(model, 34, truth);
   IcfN icf;
@@ -788,7 +789,7 @@ TEST(IterativeClosestFaceDropIn, HasConvergedIsIcpsAfterAGuessAndAcceptanceAfter
   // right, so hasConverged() is true as with ICP, while the acceptance test rejects the pose
   // (too little of the visible surface covered). Searched without a guess, the same cloud
   // reports the acceptance verdict.
-  const SyntheticModel model = pcl::icf::test::thesisModel("Box5");
+  const SyntheticModel model = pcl::icf::synthetic::thesisModel("Box5");
   Eigen::Isometry3d truth;
   const CloudN::Ptr full = boxView(model, 35, truth);
   std::vector<float> xs;
@@ -808,7 +809,7 @@ TEST(IterativeClosestFaceDropIn, HasConvergedIsIcpsAfterAGuessAndAcceptanceAfter
   EXPECT_EQ(icf.getResult().status, pcl::icf::IcfStatus::Rejected)
       << "coverage " << icf.getResult().quality.surface_coverage;
   const auto error =
-      pcl::icf::test::poseError(toIsometry(icf.getObjectPose()), truth, model.symmetry);
+      pcl::icf::synthetic::poseError(toIsometry(icf.getObjectPose()), truth, model.symmetry);
   EXPECT_LE(error.translation, 0.002);
   icf.setGuessPolicy(IcfN::GuessPolicy::Never);
   icf.align(output, guessOff(truth));
@@ -820,7 +821,7 @@ TEST(IterativeClosestFaceDropIn, PreAlignedSourceIsRefinedInPlace) {
   // An ICP user moves the source by the guess and calls align(output): the identity is
   // refined first and, accepted, kept: no global search, no symmetric flip (checked without
   // the box's symmetry).
-  const SyntheticModel model = pcl::icf::test::thesisModel("Box5");
+  const SyntheticModel model = pcl::icf::synthetic::thesisModel("Box5");
   Eigen::Isometry3d truth;
   const CloudN::Ptr source = boxView(model, 36, truth);
   const Eigen::Matrix4f guess = guessOff(truth);
@@ -835,8 +836,8 @@ TEST(IterativeClosestFaceDropIn, PreAlignedSourceIsRefinedInPlace) {
   EXPECT_EQ(icf.getResult().method, "identity+icf");
   EXPECT_TRUE(icf.hasConverged());
   const Eigen::Isometry3d truth_in_moved = Eigen::Isometry3d(guess.cast<double>()) * truth;
-  const auto error = pcl::icf::test::poseError(toIsometry(icf.getObjectPose()), truth_in_moved,
-                                               pcl::icf::test::Symmetry::none());
+  const auto error = pcl::icf::synthetic::poseError(toIsometry(icf.getObjectPose()), truth_in_moved,
+                                                    pcl::icf::synthetic::Symmetry::none());
   EXPECT_LE(error.translation, 0.0005);
   EXPECT_LE(error.rotation_deg, 0.3);
   // The same cloud far from the model (the camera's frame): the identity is not tried.
@@ -849,7 +850,7 @@ TEST(IterativeClosestFaceDropIn, PreAlignedSourceIsRefinedInPlace) {
 TEST(IterativeClosestFaceDropIn, CameraPoseLikeTheLocalizers) {
   // camera -> source, defaulting to the cloud's sensor pose; moving the cloud and its camera
   // by M moves the found object by M (Amicelly: no symmetry to flip between).
-  const SyntheticModel model = pcl::icf::test::thesisModel("Amicelly");
+  const SyntheticModel model = pcl::icf::synthetic::thesisModel("Amicelly");
   const Trial t = makeTrial(model, 12);
   IcfN::Ptr icf = pcl::make_shared<IcfN>();
   icf->setInputTarget(meshOf("Amicelly"));
@@ -873,8 +874,8 @@ TEST(IterativeClosestFaceDropIn, CameraPoseLikeTheLocalizers) {
   EXPECT_TRUE(icf->getCameraPose().isApprox(M, 1e-5f));
   icf->align(output);
   ASSERT_TRUE(icf->hasConverged());
-  const auto error = pcl::icf::test::poseError(toIsometry(icf->getObjectPose()),
-                                               M.cast<double>() * first, model.symmetry);
+  const auto error = pcl::icf::synthetic::poseError(toIsometry(icf->getObjectPose()),
+                                                    M.cast<double>() * first, model.symmetry);
   // The same search in another frame differs by float rounding only; 1 mm / 0.5 degrees
   // allow the refinement to stop one iteration apart.
   EXPECT_LE(error.translation, 0.001);
@@ -889,7 +890,7 @@ TEST(IterativeClosestFaceDropIn, CameraPoseLikeTheLocalizers) {
 
 template <typename PointT>
 void refineWithType() {
-  const SyntheticModel model = pcl::icf::test::thesisModel("Box5");
+  const SyntheticModel model = pcl::icf::synthetic::thesisModel("Box5");
   Eigen::Isometry3d truth;
   const CloudN::Ptr view = boxView(model, 37, truth);
   auto source = pcl::make_shared<pcl::PointCloud<PointT>>();
@@ -902,7 +903,7 @@ void refineWithType() {
   reg->align(output, guessOff(truth));
   EXPECT_TRUE(reg->hasConverged());
   EXPECT_EQ(output.size(), source->size());
-  const auto error = pcl::icf::test::poseError(
+  const auto error = pcl::icf::synthetic::poseError(
       toIsometry(Eigen::Matrix4f(reg->getFinalTransformation().inverse())), truth, model.symmetry);
   EXPECT_LE(error.translation, 0.0005);
 }

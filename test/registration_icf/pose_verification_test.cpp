@@ -61,7 +61,7 @@ std::size_t frontSamples(const IcfModel& model, float min_x = -1.f) {
 
 class PoseVerificationByHand : public ::testing::Test {
  protected:
-  void SetUp() override { model_ = IcfModel::build(pcl::icf::test::makeBox(0.2, 0.2, 0.1)); }
+  void SetUp() override { model_ = IcfModel::build(pcl::icf::synthetic::makeBox(0.2, 0.2, 0.1)); }
   IcfModel::ConstPtr model_;
 };
 

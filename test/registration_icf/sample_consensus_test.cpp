@@ -26,7 +26,7 @@ using pcl::icf::FallbackPolicy;
 using pcl::icf::IcfModel;
 using pcl::icf::SacParams;
 using pcl::icf::SacStatus;
-using pcl::icf::test::SyntheticModel;
+using pcl::icf::synthetic::SyntheticModel;
 
 struct Trial {
   Eigen::Isometry3d truth;
@@ -37,7 +37,7 @@ struct Trial {
 /** A random pose 0.7 - 1.1 m in front of the camera and its noisy view (1.5 mm at 1 m,
  * growing with depth^2; 5% outliers within +-5 cm along the ray). */
 Trial makeTrial(const SyntheticModel& model, std::uint64_t seed) {
-  const pcl::icf::test::RandomView view = pcl::icf::test::randomView(model.mesh, seed);
+  const pcl::icf::synthetic::RandomView view = pcl::icf::synthetic::randomView(model.mesh, seed);
   Trial t;
   t.truth = view.truth;
   t.cloud = view.cluster;
@@ -46,10 +46,10 @@ Trial makeTrial(const SyntheticModel& model, std::uint64_t seed) {
   return t;
 }
 
-pcl::icf::test::PoseError errorOf(const Eigen::Matrix4f& scene_to_model, const Trial& t,
-                                  const SyntheticModel& model) {
+pcl::icf::synthetic::PoseError errorOf(const Eigen::Matrix4f& scene_to_model, const Trial& t,
+                                       const SyntheticModel& model) {
   const Eigen::Isometry3d pose(scene_to_model.cast<double>().inverse());
-  return pcl::icf::test::poseError(pose, t.truth, model.symmetry);
+  return pcl::icf::synthetic::poseError(pose, t.truth, model.symmetry);
 }
 
 /** The Stanford bunny (real scanned mesh) from \p path (PCL_ICF_REQUIRE_SHARED's
@@ -58,7 +58,7 @@ std::unique_ptr<SyntheticModel> bunny(const std::string& path) {
   auto model = std::make_unique<SyntheticModel>();
   model->name = "bunny";
   model->mesh = pcl::icf::io::loadPolygonMesh(path);
-  model->symmetry = pcl::icf::test::Symmetry::none();
+  model->symmetry = pcl::icf::synthetic::Symmetry::none();
   return model;
 }
 
@@ -109,7 +109,7 @@ TEST(SampleConsensusAlign, RecoversBunnyViewsWithoutRefinement) {
 }
 
 TEST(SampleConsensusAlign, SameSeedSameResultForAnyThreadCount) {
-  const SyntheticModel model = pcl::icf::test::thesisModel("Amicelly");
+  const SyntheticModel model = pcl::icf::synthetic::thesisModel("Amicelly");
   const IcfModel::ConstPtr prepared = IcfModel::build(model.mesh);
   const Trial t = makeTrial(model, 17);
   for (const auto method :
@@ -134,7 +134,7 @@ TEST(SampleConsensusAlign, SameSeedSameResultForAnyThreadCount) {
 }
 
 TEST(SampleConsensusAlign, ModelFeaturesAreCachedByContent) {
-  const SyntheticModel model = pcl::icf::test::thesisModel("Box5");
+  const SyntheticModel model = pcl::icf::synthetic::thesisModel("Box5");
   const IcfModel::ConstPtr a = IcfModel::build(model.mesh);
   const IcfModel::ConstPtr b = IcfModel::build(model.mesh);  // same mesh, another object
   SacParams params;
@@ -162,7 +162,7 @@ TEST(SampleConsensusAlign, ModelFeaturesAreCachedByContent) {
 }
 
 TEST(SampleConsensusAlign, TooFewPointsIsAStatusNotAnError) {
-  const IcfModel::ConstPtr model = IcfModel::build(pcl::icf::test::thesisModel("Box5").mesh);
+  const IcfModel::ConstPtr model = IcfModel::build(pcl::icf::synthetic::thesisModel("Box5").mesh);
   const std::vector<Eigen::Vector3f> few = {Eigen::Vector3f(0, 0, 1), Eigen::Vector3f(0, 0.01f, 1)};
   const auto r = pcl::icf::sampleConsensusAlign(*model, few, Eigen::Vector3f::Zero(), {}, 1);
   EXPECT_EQ(r.status, SacStatus::TooFewPoints);
@@ -296,8 +296,8 @@ TEST(Fallback, AutoFiresWhenTheSearchFailsAndRecoversThePose) {
   // box views (one of each a wrong pose that only the seen-through check rejects);
   // SampleConsensus alone finds 3 and 2 of those (FPFH is weak on flat faces), and the fallback
   // must recover exactly those.
-  expectFallbackRecovers(pcl::icf::test::thesisModel("YellowRoundSalt"), 40, 52, 1, 1);
-  expectFallbackRecovers(pcl::icf::test::thesisModel("Box5"), 40, 52, 1, 1);
+  expectFallbackRecovers(pcl::icf::synthetic::thesisModel("YellowRoundSalt"), 40, 52, 1, 1);
+  expectFallbackRecovers(pcl::icf::synthetic::thesisModel("Box5"), 40, 52, 1, 1);
 }
 
 TEST(Fallback, AutoRecoversBunnyViewsTheCrippledSearchMisses) {
@@ -309,7 +309,7 @@ TEST(Fallback, AutoRecoversBunnyViewsTheCrippledSearchMisses) {
 }
 
 TEST(Fallback, AutoStaysQuietWhenTheSearchSucceedsAndAlwaysReplacesIt) {
-  const SyntheticModel model = pcl::icf::test::thesisModel("Amicelly");
+  const SyntheticModel model = pcl::icf::synthetic::thesisModel("Amicelly");
   const IcfModel::ConstPtr prepared = IcfModel::build(model.mesh);
   const Trial t = makeTrial(model, 23);
   pcl::icf::IcfParams params;  // default: fast search, fallback Auto
@@ -339,7 +339,7 @@ TEST(Fallback, AutoStaysQuietWhenTheSearchSucceedsAndAlwaysReplacesIt) {
 }
 
 TEST(Fallback, ReachesIterativeClosestFaceThroughItsParams) {
-  const SyntheticModel model = pcl::icf::test::thesisModel("YellowRoundSalt");
+  const SyntheticModel model = pcl::icf::synthetic::thesisModel("YellowRoundSalt");
   const Trial t = makeTrial(model, 40);
   pcl::IterativeClosestFace<pcl::PointXYZ> icf;
   icf.setInputTarget(pcl::make_shared<pcl::PolygonMesh>(model.mesh));
@@ -351,8 +351,8 @@ TEST(Fallback, ReachesIterativeClosestFaceThroughItsParams) {
   icf.align(aligned);
   EXPECT_EQ(icf.getResult().method, "sac+icf");
   EXPECT_TRUE(icf.hasConverged());
-  const auto e = pcl::icf::test::poseError(Eigen::Isometry3d(icf.getObjectPose().cast<double>()),
-                                           t.truth, model.symmetry);
+  const auto e = pcl::icf::synthetic::poseError(
+      Eigen::Isometry3d(icf.getObjectPose().cast<double>()), t.truth, model.symmetry);
   EXPECT_LE(e.translation, 0.005);
   EXPECT_LE(e.rotation_deg, 3.0);
 }

@@ -22,7 +22,7 @@
 namespace {
 
 namespace seg = pcl::icf::segmentation;
-using pcl::icf::test::SyntheticModel;
+using pcl::icf::synthetic::SyntheticModel;
 
 /** A rendered table top, its objects' points as one cluster (what Euclidean clustering gives
  * for objects that touch), and for every point of the cluster the label of its object. */
@@ -34,8 +34,8 @@ struct TouchingBoxes {
 };
 
 SyntheticModel box(const char* name, double sx, double sy, double sz) {
-  return SyntheticModel{name, pcl::icf::test::makeBox(sx, sy, sz),
-                        pcl::icf::test::Symmetry::box(sx, sy, sz),
+  return SyntheticModel{name, pcl::icf::synthetic::makeBox(sx, sy, sz),
+                        pcl::icf::synthetic::Symmetry::box(sx, sy, sz),
                         Eigen::Vector3f(0.8f, 0.3f, 0.2f)};
 }
 
@@ -52,11 +52,11 @@ TouchingBoxes render(bool with_small) {
     // Centre 5 + 4 cm in front of the tall box's centre: the two faces touch.
     placements.push_back(Eigen::Vector3d(0.0, -0.09, 0.0));
   }
-  pcl::icf::test::ScanNoise noise;
+  pcl::icf::synthetic::ScanNoise noise;
   noise.outlier_ratio = 0.0;
   noise.seed = 17;
-  const auto scene = pcl::icf::test::makeTabletopScene(models, placements,
-                                                       pcl::icf::test::CameraIntrinsics(), noise);
+  const auto scene = pcl::icf::synthetic::makeTabletopScene(
+      models, placements, pcl::icf::synthetic::CameraIntrinsics(), noise);
   TouchingBoxes out;
   pcl::copyPointCloud(*scene.scan.cloud, out.cloud);
   for (std::size_t i = 0; i < scene.scan.labels.size(); ++i) {

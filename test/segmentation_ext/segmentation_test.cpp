@@ -266,11 +266,11 @@ TEST(SegmentationParams, StagesThrowOnBrokenContracts) {
 }
 
 TEST(SegmentationParams, StatusNames) {
-  EXPECT_STREQ(seg::toString(TabletopStatus::SceneUnitsSuspect), "SceneUnitsSuspect");
-  EXPECT_STREQ(seg::toString(TabletopStatus::NoCluster), "NoCluster");
-  EXPECT_STREQ(seg::toString(seg::TablePlaneStatus::TooFewInliers), "TooFewInliers");
-  EXPECT_STREQ(seg::toString(seg::AboveTableStatus::DegenerateHull), "DegenerateHull");
-  EXPECT_STREQ(seg::toString(seg::ClusterMethod::PclOrganized), "PclOrganized");
+  EXPECT_EQ(seg::toString(TabletopStatus::SceneUnitsSuspect), "SceneUnitsSuspect");
+  EXPECT_EQ(seg::toString(TabletopStatus::NoCluster), "NoCluster");
+  EXPECT_EQ(seg::toString(seg::TablePlaneStatus::TooFewInliers), "TooFewInliers");
+  EXPECT_EQ(seg::toString(seg::AboveTableStatus::DegenerateHull), "DegenerateHull");
+  EXPECT_EQ(seg::toString(seg::ClusterMethod::PclOrganized), "PclOrganized");
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -23,7 +23,7 @@
 
 namespace {
 
-using namespace pcl::icf::test;
+using namespace pcl::icf::synthetic;
 
 constexpr double kPi = 3.14159265358979323846;
 

@@ -50,7 +50,7 @@ using pcl::icf::io::loadPolygonMesh;
 using pcl::icf::io::loadSceneCloud;
 using pcl::icf::localization::LocalizationStatus;
 using pcl::icf::localization::LocalizerParams;
-namespace test = pcl::icf::test;
+namespace synthetic = pcl::icf::synthetic;
 
 /** The tests run under ASan/UBSan too (PCL_ICF_SANITIZED=1): the address-space limit is then
  * left out (the sanitizer reserves terabytes of shadow memory) and the big mesh is smaller. */
@@ -129,7 +129,7 @@ class HostileInput : public pcl_icf_test::TempDirTest {
 
 /** Box5 seen from 0.8 m at a fixed oblique pose, with the simulator's noise and outliers. */
 struct View {
-  test::SyntheticModel model = test::thesisModel("Box5");
+  synthetic::SyntheticModel model = synthetic::thesisModel("Box5");
   Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
   std::vector<Eigen::Vector3f> points;
 };
@@ -138,9 +138,10 @@ View boxView() {
   View v;
   v.truth.translate(Eigen::Vector3d(0.03, -0.02, 0.8));
   v.truth.rotate(Eigen::AngleAxisd(0.9, Eigen::Vector3d(1, 0.4, 0.2).normalized()));
-  test::ScanNoise noise;
+  synthetic::ScanNoise noise;
   noise.seed = 5;
-  const auto cloud = test::renderCluster(v.model.mesh, v.truth, test::CameraIntrinsics(), noise);
+  const auto cloud =
+      synthetic::renderCluster(v.model.mesh, v.truth, synthetic::CameraIntrinsics(), noise);
   for (const auto& p : *cloud)
     v.points.push_back(p.getVector3fMap());
   return v;
@@ -149,8 +150,8 @@ View boxView() {
 /** Within 5 mm and 3 degrees of the truth (symmetry-aware). */
 void expectCorrectPose(const IcfResult& r, const View& v) {
   ASSERT_EQ(r.status, IcfStatus::Accepted) << pcl::icf::toString(r.status);
-  const auto e =
-      test::poseError(Eigen::Isometry3d(r.object_pose.cast<double>()), v.truth, v.model.symmetry);
+  const auto e = synthetic::poseError(Eigen::Isometry3d(r.object_pose.cast<double>()), v.truth,
+                                      v.model.symmetry);
   EXPECT_LE(e.translation, 0.005);
   EXPECT_LE(e.rotation_deg, 3.0);
 }
@@ -162,11 +163,11 @@ IcfResult estimate(const IcfModel& model, const std::vector<Eigen::Vector3f>& po
 }
 
 const IcfModel& boxModel() {
-  static const IcfModel::ConstPtr model = IcfModel::build(test::makeBox5());
+  static const IcfModel::ConstPtr model = IcfModel::build(synthetic::makeBox5());
   return *model;
 }
 
-using pcl::icf::test::meshOf;
+using pcl::icf::synthetic::meshOf;
 
 // ---- Files ------------------------------------------------------------------------------
 
@@ -357,7 +358,7 @@ TEST_F(HostileInput, NanAndInfCoordinates) {
   expectCorrectPose(r, v);
 
   // A mesh with a NaN vertex: the faces that use it are dropped and counted, the rest builds.
-  pcl::PolygonMesh box = test::makeBox5();
+  pcl::PolygonMesh box = synthetic::makeBox5();
   pcl::PointCloud<pcl::PointXYZ> vertices;
   pcl::fromPCLPointCloud2(box.cloud, vertices);
   vertices[0].x = nan;
@@ -399,7 +400,7 @@ TEST_F(HostileInput, CoordinatesOf1e30) {
       },
       "no usable face");
   // A model beside one vertex at 1e30 (unreferenced): the model is what the faces span.
-  pcl::PolygonMesh box = test::makeBox5();
+  pcl::PolygonMesh box = synthetic::makeBox5();
   pcl::PointCloud<pcl::PointXYZ> vertices;
   pcl::fromPCLPointCloud2(box.cloud, vertices);
   vertices.push_back(pcl::PointXYZ(1e30f, 1e30f, 1e30f));
@@ -417,15 +418,16 @@ TEST_F(HostileInput, CoordinatesOf1e30) {
   // kMaxPointCoordinate, so it stays in): the first is left out like NaN, and the units check
   // measures the percentile extent, so neither makes the scene look like millimetres or spoils
   // the table; the box is found (5 mm / 3 degrees, as everywhere here).
-  const test::SyntheticModel box5 = test::thesisModel("Box5");
+  const synthetic::SyntheticModel box5 = synthetic::thesisModel("Box5");
   for (const float far : {1e30f, 1e5f}) {
     SCOPED_TRACE(far);
-    test::TabletopScene scene = test::makeTabletopScene(
-        {box5}, {Eigen::Vector3d(0, 0, 0.3)}, test::CameraIntrinsics(), test::ScanNoise::none());
+    synthetic::TabletopScene scene =
+        synthetic::makeTabletopScene({box5}, {Eigen::Vector3d(0, 0, 0.3)},
+                                     synthetic::CameraIntrinsics(), synthetic::ScanNoise::none());
     scene.scan.cloud->at(0).getVector3fMap() = Eigen::Vector3f::Constant(far);
     const auto found = pcl::icf::localization::localizeObject(*scene.scan.cloud, boxModel());
     ASSERT_EQ(found.status, LocalizationStatus::Found) << found.message;
-    const auto e = test::poseError(
+    const auto e = synthetic::poseError(
         Eigen::Isometry3d(found.clusters[found.best].icf.object_pose.cast<double>()),
         scene.poses[0], box5.symmetry);
     EXPECT_LE(e.translation, 0.005);
@@ -557,7 +559,7 @@ TEST_F(HostileInput, NonManifoldMeshAndFlippedNormals) {
 
   // Box5 with three of its six faces wound the wrong way (inward normals): the pose of its
   // view is still found.
-  pcl::PolygonMesh flipped = test::makeBox5();
+  pcl::PolygonMesh flipped = synthetic::makeBox5();
   for (std::size_t f = 0; f < flipped.polygons.size(); f += 2)
     std::reverse(flipped.polygons[f].vertices.begin(), flipped.polygons[f].vertices.end());
   const IcfModel::ConstPtr model = IcfModel::build(flipped);
@@ -567,9 +569,10 @@ TEST_F(HostileInput, NonManifoldMeshAndFlippedNormals) {
 
 TEST_F(HostileInput, MillimetreDataWithMetreParameters) {
   // A table-top scene in millimetres, metre parameters: BadScene, saying why.
-  const test::SyntheticModel box = test::thesisModel("Box5");
-  test::TabletopScene scene = test::makeTabletopScene(
-      {box}, {Eigen::Vector3d(0, 0, 0.3)}, test::CameraIntrinsics(), test::ScanNoise::none());
+  const synthetic::SyntheticModel box = synthetic::thesisModel("Box5");
+  synthetic::TabletopScene scene =
+      synthetic::makeTabletopScene({box}, {Eigen::Vector3d(0, 0, 0.3)},
+                                   synthetic::CameraIntrinsics(), synthetic::ScanNoise::none());
   pcl::PointCloud<pcl::PointXYZRGB> mm;
   pcl::transformPointCloud(*scene.scan.cloud, mm, Eigen::Affine3f(Eigen::Scaling(1000.f)));
   const auto found = pcl::icf::localization::localizeObject(mm, boxModel());
@@ -581,7 +584,7 @@ TEST_F(HostileInput, MillimetreDataWithMetreParameters) {
     cluster.push_back(1000.f * p);
   EXPECT_NE(estimate(boxModel(), cluster).status, IcfStatus::Accepted);
   // A millimetre mesh with metre data: rejected as it is; right with FaceMeshOptions::scale.
-  pcl::PolygonMesh box_mm = test::makeBox(140, 90, 50);
+  pcl::PolygonMesh box_mm = synthetic::makeBox(140, 90, 50);
   const View v = boxView();
   EXPECT_NE(estimate(*IcfModel::build(box_mm), v.points).status, IcfStatus::Accepted);
   pcl::icf::IcfModelParams scaled;
@@ -594,10 +597,11 @@ TEST_F(HostileInput, ASceneWithNoTable) {
   // a given cluster (segment = false) it is found.
   const View v = boxView();
   const pcl::PolygonMesh& mesh = v.model.mesh;
-  test::SceneObject object;
+  synthetic::SceneObject object;
   object.mesh = &mesh;
   object.pose = v.truth;
-  const test::Scan scan = test::renderScan({object}, test::CameraIntrinsics(), test::ScanNoise());
+  const synthetic::Scan scan =
+      synthetic::renderScan({object}, synthetic::CameraIntrinsics(), synthetic::ScanNoise());
   const auto found = pcl::icf::localization::localizeObject(*scan.cloud, boxModel());
   EXPECT_NE(found.status, LocalizationStatus::Found);
   EXPECT_FALSE(found.message.empty());
@@ -605,7 +609,7 @@ TEST_F(HostileInput, ASceneWithNoTable) {
   whole.segment = false;
   const auto as_cluster = pcl::icf::localization::localizeObject(*scan.cloud, boxModel(), whole);
   ASSERT_EQ(as_cluster.status, LocalizationStatus::Found) << as_cluster.message;
-  const auto e = test::poseError(
+  const auto e = synthetic::poseError(
       Eigen::Isometry3d(as_cluster.clusters[as_cluster.best].icf.object_pose.cast<double>()),
       v.truth, v.model.symmetry);
   EXPECT_LE(e.translation, 0.005);

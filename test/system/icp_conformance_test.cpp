@@ -34,7 +34,7 @@ namespace {
 
 using PointN = pcl::PointNormal;
 using CloudN = pcl::PointCloud<PointN>;
-using pcl::icf::test::Symmetry;
+using pcl::icf::synthetic::Symmetry;
 
 /** What one run of the pipeline returns, read through the Registration pointer. */
 struct PipelineRun {
@@ -204,11 +204,11 @@ struct Errors {
 
 Errors errorsOf(const PipelineRun& run, const Case& c) {
   const Eigen::Isometry3d estimate(run.final_transformation.inverse().cast<double>());
-  const auto e = pcl::icf::test::poseError(estimate, c.truth, c.symmetry);
+  const auto e = pcl::icf::synthetic::poseError(estimate, c.truth, c.symmetry);
   Errors out;
   out.translation_mm = 1e3 * e.translation;
   if (c.diameter > 0.0) {
-    out.second = 1e3 * pcl::icf::test::addS(c.mesh, estimate, c.truth);
+    out.second = 1e3 * pcl::icf::synthetic::addS(c.mesh, estimate, c.truth);
     out.success = out.translation_mm < 10.0 && out.second < 100.0 * c.diameter;
   } else {
     out.second = e.rotation_deg;
@@ -301,10 +301,10 @@ bool sanitized() {
 TEST(IcpConformance, SyntheticViews) {
   const std::uint64_t views = sanitized() ? 1 : 3;
   std::vector<std::pair<Errors, Errors>> runs;
-  for (const std::string& name : pcl::icf::test::thesisModelNames())
+  for (const std::string& name : pcl::icf::synthetic::thesisModelNames())
     for (std::uint64_t seed = 101; seed < 101 + views; ++seed) {
-      const auto model = pcl::icf::test::thesisModel(name);
-      const auto view = pcl::icf::test::randomView(model.mesh, seed);
+      const auto model = pcl::icf::synthetic::thesisModel(name);
+      const auto view = pcl::icf::synthetic::randomView(model.mesh, seed);
       Case c{name + " seed " + std::to_string(seed), model.mesh, model.symmetry, view.truth,
              withNormals(view.cluster)};
       runs.push_back(compare(c));
@@ -367,7 +367,7 @@ TEST(IcpConformance, YcbVideoFrames) {
       voxel.filter(*thinned);
       c.scene = withNormals(thinned);
       ASSERT_GT(c.scene->size(), 100u) << c.name;
-      c.diameter = pcl::icf::test::modelDiameter(c.mesh);
+      c.diameter = pcl::icf::synthetic::modelDiameter(c.mesh);
       runs.push_back(compare(c));
     }
   expectAtLeastAsAccurate(runs, sanitized() ? 0 : 2);

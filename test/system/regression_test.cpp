@@ -92,8 +92,8 @@ TEST(FuzzFinding, TinyAndHugeMeshesKeepUnitNormals) {
   for (const float scale : {1e-20f, 1.f, 1e17f}) {
     SCOPED_TRACE(scale);
     const pcl::PolygonMesh mesh =
-        pcl::icf::test::meshOf({{0, 0, 0}, {scale, 0, 0}, {0, scale, 0}, {0, 0, scale}},
-                               {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}});
+        pcl::icf::synthetic::meshOf({{0, 0, 0}, {scale, 0, 0}, {0, scale, 0}, {0, 0, scale}},
+                                    {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}});
     const FaceMesh faces = FaceMesh::build(mesh);
     ASSERT_EQ(faces.size(), 4u);
     for (const auto& face : faces.faces())

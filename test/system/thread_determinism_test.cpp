@@ -20,9 +20,10 @@ std::vector<Eigen::Vector3f> boxView(std::uint64_t seed) {
   Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
   truth.translate(Eigen::Vector3d(-0.02, 0.03, 0.85));
   truth.rotate(Eigen::AngleAxisd(2.1, Eigen::Vector3d(0.3, 1, 0.5).normalized()));
-  test::ScanNoise noise;
+  synthetic::ScanNoise noise;
   noise.seed = seed;
-  const auto cloud = test::renderCluster(test::makeBox5(), truth, test::CameraIntrinsics(), noise);
+  const auto cloud =
+      synthetic::renderCluster(synthetic::makeBox5(), truth, synthetic::CameraIntrinsics(), noise);
   std::vector<Eigen::Vector3f> points;
   for (const auto& p : *cloud)
     points.push_back(p.getVector3fMap());
@@ -32,15 +33,16 @@ std::vector<Eigen::Vector3f> boxView(std::uint64_t seed) {
 TEST(ThreadDeterminism, LocalizerOnAScene) {
   // The target among two distractors that touch it: merged clusters, convexity segments,
   // clusters judged in parallel.
-  const std::vector<test::SyntheticModel> models = {
-      test::thesisModel("Box5"), test::thesisModel("Cup"), test::thesisModel("Amicelly")};
-  test::ScanNoise noise;
+  const std::vector<synthetic::SyntheticModel> models = {synthetic::thesisModel("Box5"),
+                                                         synthetic::thesisModel("Cup"),
+                                                         synthetic::thesisModel("Amicelly")};
+  synthetic::ScanNoise noise;
   noise.outlier_ratio = 0.0;
-  const test::TabletopScene scene =
-      test::makeTabletopScene(models,
-                              {Eigen::Vector3d(0.0, 0.0, 0.4), Eigen::Vector3d(0.12, 0.02, 0.0),
-                               Eigen::Vector3d(-0.15, -0.05, 1.0)},
-                              test::CameraIntrinsics(), noise);
+  const synthetic::TabletopScene scene = synthetic::makeTabletopScene(
+      models,
+      {Eigen::Vector3d(0.0, 0.0, 0.4), Eigen::Vector3d(0.12, 0.02, 0.0),
+       Eigen::Vector3d(-0.15, -0.05, 1.0)},
+      synthetic::CameraIntrinsics(), noise);
   const IcfModel::ConstPtr model = IcfModel::build(models.front().mesh);
   std::vector<localization::Localization> runs;
   for (int threads : {1, 2, 3}) {
@@ -70,7 +72,7 @@ TEST(ThreadDeterminism, LocalizerOnAScene) {
 }
 
 TEST(ThreadDeterminism, ThesisSearchAndSampleConsensusFallback) {
-  const IcfModel::ConstPtr model = IcfModel::build(test::makeBox5());
+  const IcfModel::ConstPtr model = IcfModel::build(synthetic::makeBox5());
   const std::vector<Eigen::Vector3f> points = boxView(3);
   for (const bool thesis : {true, false}) {
     SCOPED_TRACE(thesis ? "thesis search" : "SampleConsensus (fallback Always)");

@@ -67,7 +67,7 @@ Eigen::Isometry3d poseOf(const json& rows) {
  * (the table) and grown by 5 mm elsewhere (the sensor's noise). */
 int pointsInside(const pcl::PointCloud<pcl::PointXYZRGB>& frame, const pcl::PolygonMesh& model,
                  const Eigen::Isometry3d& pose) {
-  const Eigen::AlignedBox3d box = pcl::icf::test::boundingBox(model);
+  const Eigen::AlignedBox3d box = pcl::icf::synthetic::boundingBox(model);
   const Eigen::Vector3d lo = box.min() + Eigen::Vector3d(-0.005, -0.005, 0.005);
   const Eigen::Vector3d hi = box.max() + Eigen::Vector3d::Constant(0.005);
   const Eigen::Isometry3d to_model = pose.inverse();
@@ -118,8 +118,8 @@ TEST_F(MakeDataset, SequenceFramesAgreeWithTheirGroundTruth) {
     if (i < 2) {
       EXPECT_EQ(tracked_models[i], objects[i].at("model").get<std::string>());
     }
-    meshes[name] = name == "TallCylinder" ? pcl::icf::test::makeCylinder(0.035, 0.16, 32)
-                                          : pcl::icf::test::thesisModel(name).mesh;
+    meshes[name] = name == "TallCylinder" ? pcl::icf::synthetic::makeCylinder(0.035, 0.16, 32)
+                                          : pcl::icf::synthetic::thesisModel(name).mesh;
   }
   const std::string moved = objects[0].at("name"), occluded = objects[1].at("name");
   const int gone = objects[0].at("absent").at(0), back = objects[0].at("absent").at(1);

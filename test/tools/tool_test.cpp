@@ -188,8 +188,8 @@ TEST_F(Tool, BundledSceneFindsBox5AtItsKnownPose) {
   EXPECT_TRUE(j["best"]["accepted"].get<bool>());
   EXPECT_GE(j["clusters"].size(), 3u);  // Box5, a cup and a statue
   const auto truth = readTruth(demo("tabletop_box5_truth.txt"));
-  const auto model = pcl::icf::test::thesisModel("Box5");
-  const auto error = pcl::icf::test::poseError(poseOf(j["best"]), truth, model.symmetry);
+  const auto model = pcl::icf::synthetic::thesisModel("Box5");
+  const auto error = pcl::icf::synthetic::poseError(poseOf(j["best"]), truth, model.symmetry);
   EXPECT_LT(error.translation, kMaxTranslation);
   EXPECT_LT(error.rotation_deg, kMaxRotationDeg);
   RecordProperty("translation_error_mm", std::to_string(1e3 * error.translation));
@@ -234,7 +234,7 @@ TEST_F(Tool, BundledSceneFindsBox5AtItsKnownPose) {
 }
 
 TEST_F(Tool, ModelNotInTheSceneExitsOne) {
-  pcl::io::savePLYFile(path("crate.ply"), pcl::icf::test::makeBox(0.40, 0.30, 0.20));
+  pcl::io::savePLYFile(path("crate.ply"), pcl::icf::synthetic::makeBox(0.40, 0.30, 0.20));
   const Result r =
       run(quote(demo("tabletop_box5.pcd")) + " " + quote(path("crate.ply")) + " --json " +
           quote(path("r.json")) + " --output " + quote(path("posed.ply")));
@@ -251,7 +251,7 @@ TEST_F(Tool, ModelNotInTheSceneExitsOne) {
 
 TEST_F(Tool, NoSegmentXyzClusterAndUnits) {
   const auto truth = readTruth(demo("box5_truth.txt"));
-  const auto model = pcl::icf::test::thesisModel("Box5");
+  const auto model = pcl::icf::synthetic::thesisModel("Box5");
   {  // metres, .xyz
     const Result r = run(quote(clusterAsXyz("c.xyz", 1.0)) + " " + quote(demo("box5.ply")) +
                          " --no-segment --json " + quote(path("m.json")));
@@ -259,7 +259,7 @@ TEST_F(Tool, NoSegmentXyzClusterAndUnits) {
     const json j = json::parse(slurp(path("m.json")));
     expectResultSchema(j);
     EXPECT_FALSE(j["segment"].get<bool>());
-    const auto e = pcl::icf::test::poseError(poseOf(j["best"]), truth, model.symmetry);
+    const auto e = pcl::icf::synthetic::poseError(poseOf(j["best"]), truth, model.symmetry);
     EXPECT_LT(e.translation, kMaxTranslation);
     EXPECT_LT(e.rotation_deg, kMaxRotationDeg);
   }
@@ -273,7 +273,7 @@ TEST_F(Tool, NoSegmentXyzClusterAndUnits) {
     EXPECT_EQ(r.err.find("millimetres"), std::string::npos) << r.err;
     const json j = json::parse(slurp(path("stray.json")));
     EXPECT_EQ(j["units"], "m");
-    const auto e = pcl::icf::test::poseError(poseOf(j["best"]), truth, model.symmetry);
+    const auto e = pcl::icf::synthetic::poseError(poseOf(j["best"]), truth, model.symmetry);
     EXPECT_LT(e.translation, kMaxTranslation);
     EXPECT_LT(e.rotation_deg, kMaxRotationDeg);
   }
@@ -286,7 +286,7 @@ TEST_F(Tool, NoSegmentXyzClusterAndUnits) {
     EXPECT_EQ(j["units"], "mm");
     Eigen::Isometry3d pose = poseOf(j["best"]);
     pose.translation() *= 1e-3;
-    const auto e = pcl::icf::test::poseError(pose, truth, model.symmetry);
+    const auto e = pcl::icf::synthetic::poseError(pose, truth, model.symmetry);
     EXPECT_LT(e.translation, kMaxTranslation);
     EXPECT_LT(e.rotation_deg, kMaxRotationDeg);
     // Forcing metres on a millimetre scene is the user's call: then nothing fits.
@@ -296,7 +296,7 @@ TEST_F(Tool, NoSegmentXyzClusterAndUnits) {
         0);
   }
   {  // the mesh in millimetres beside a metre scene: read as millimetres, with a warning
-    pcl::PolygonMesh mm = pcl::icf::test::makeBox(140.0, 90.0, 50.0);
+    pcl::PolygonMesh mm = pcl::icf::synthetic::makeBox(140.0, 90.0, 50.0);
     pcl::io::savePLYFile(path("box5_mm.ply"), mm);
     const Result r = run(quote(demo("box5_cluster.pcd")) + " " + quote(path("box5_mm.ply")) +
                          " --no-segment --json " + quote(path("mesh_mm.json")));
@@ -305,7 +305,7 @@ TEST_F(Tool, NoSegmentXyzClusterAndUnits) {
     const json j = json::parse(slurp(path("mesh_mm.json")));
     EXPECT_EQ(j["model_units"], "mm");
     EXPECT_EQ(j["units"], "m");
-    const auto e = pcl::icf::test::poseError(poseOf(j["best"]), truth, model.symmetry);
+    const auto e = pcl::icf::synthetic::poseError(poseOf(j["best"]), truth, model.symmetry);
     EXPECT_LT(e.translation, kMaxTranslation);
   }
 }

@@ -32,7 +32,7 @@ bool sanitized() {
   return std::getenv("PCL_ICF_SANITIZED") != nullptr;
 }
 
-namespace test = pcl::icf::test;
+namespace synthetic = pcl::icf::synthetic;
 using pcl::icf::IcfModel;
 using pcl::icf::tracking::ObjectTracker;
 using pcl::icf::tracking::TrackState;
@@ -45,15 +45,15 @@ constexpr int kGoneFrom = 5;
 constexpr int kBackAt = 8;
 
 /** That sequence (the cup first, then the box), frame f's noise seeded with noise_seed + f. */
-test::SequenceSpec movingBoxSequence(std::uint64_t noise_seed) {
-  test::SequenceSpec spec;
+synthetic::SequenceSpec movingBoxSequence(std::uint64_t noise_seed) {
+  synthetic::SequenceSpec spec;
   spec.frames = kFrames;
   spec.noise.outlier_ratio = 0.0;  // as the localizer's table-top tests (object_localizer_test)
   spec.noise.seed = noise_seed;
-  test::SequenceObject cup, box;
-  cup.model = test::thesisModel("Cup");
+  synthetic::SequenceObject cup, box;
+  cup.model = synthetic::thesisModel("Cup");
   cup.start = Eigen::Vector3d(0.15, -0.05, 0.0);
-  box.model = test::thesisModel("Box5");
+  box.model = synthetic::thesisModel("Box5");
   box.start = Eigen::Vector3d(-0.08, 0.02, 0.3);
   box.velocity = Eigen::Vector3d(0.008, 0.003, 2.0 * M_PI / 180.0);
   box.absent_from = kGoneFrom;
@@ -63,9 +63,9 @@ test::SequenceSpec movingBoxSequence(std::uint64_t noise_seed) {
 }
 
 TEST(ObjectTracker, SyntheticSequenceMovedRemovedAndPutBack) {
-  const test::SequenceSpec spec = movingBoxSequence(100);
-  const test::SyntheticModel& cup = spec.objects[0].model;
-  const test::SyntheticModel& box = spec.objects[1].model;
+  const synthetic::SequenceSpec spec = movingBoxSequence(100);
+  const synthetic::SyntheticModel& cup = spec.objects[0].model;
+  const synthetic::SyntheticModel& box = spec.objects[1].model;
   pcl::icf::tracking::TrackerParams params;
   params.localizer.threads = 1;
   ObjectTracker tracker(params);
@@ -74,7 +74,7 @@ TEST(ObjectTracker, SyntheticSequenceMovedRemovedAndPutBack) {
 
   int lost_at = -1, refound_at = -1;
   for (int f = 0; f < kFrames; ++f) {
-    const test::SequenceFrame frame = test::renderSequenceFrame(spec, f);
+    const synthetic::SequenceFrame frame = synthetic::renderSequenceFrame(spec, f);
     const bool present = frame.present[1];
     EXPECT_EQ(present, f < kGoneFrom || f >= kBackAt);
     const auto out = tracker.track(*frame.scene.scan.cloud);
@@ -83,20 +83,21 @@ TEST(ObjectTracker, SyntheticSequenceMovedRemovedAndPutBack) {
     const auto& c = out.objects[1];
     for (const auto& o : out.objects)
       std::printf("frame %d %s %s confidence %.3f, refinement %.1f ms, search %.1f ms\n", f,
-                  o.name.c_str(), toString(o.state), o.confidence, o.refine_ms, o.search_ms);
+                  o.name.c_str(), toString(o.state).c_str(), o.confidence, o.refine_ms,
+                  o.search_ms);
     SCOPED_TRACE("frame " + std::to_string(f) + ": box " + toString(b.state) + " (" + b.message +
                  "), cup " + toString(c.state));
     // The cup never moves: found, then tracked.
     ASSERT_TRUE(c.pose.has_value());
     EXPECT_EQ(c.state, f == 0 ? TrackState::Found : TrackState::Tracking);
-    const auto cup_error = test::poseError(Eigen::Isometry3d(c.pose->matrix().cast<double>()),
-                                           frame.poses[0], cup.symmetry);
+    const auto cup_error = synthetic::poseError(Eigen::Isometry3d(c.pose->matrix().cast<double>()),
+                                                frame.poses[0], cup.symmetry);
     EXPECT_LE(cup_error.translation, 0.01);
     EXPECT_LE(cup_error.rotation_deg, 5.0);
     if (present) {
       ASSERT_TRUE(b.pose.has_value());
-      const auto error = test::poseError(Eigen::Isometry3d(b.pose->matrix().cast<double>()),
-                                         frame.poses[1], box.symmetry);
+      const auto error = synthetic::poseError(Eigen::Isometry3d(b.pose->matrix().cast<double>()),
+                                              frame.poses[1], box.symmetry);
       std::printf("frame %d Box5 error %.1f mm %.2f deg\n", f, 1e3 * error.translation,
                   error.rotation_deg);
       EXPECT_LE(error.translation, 0.01);
@@ -124,8 +125,8 @@ TEST(ObjectTracker, SyntheticSequenceMovedRemovedAndPutBack) {
 // Deterministic: two trackers, one on one thread and one on every core (the two objects refined
 // in parallel), fed the same frames report the same poses, bit for bit.
 TEST(ObjectTracker, SameFramesSamePoses) {
-  const test::SyntheticModel box = test::thesisModel("Box5");
-  const test::SyntheticModel cup = test::thesisModel("Cup");
+  const synthetic::SyntheticModel box = synthetic::thesisModel("Box5");
+  const synthetic::SyntheticModel cup = synthetic::thesisModel("Cup");
   const IcfModel::ConstPtr model = IcfModel::build(box.mesh);
   const IcfModel::ConstPtr cup_model = IcfModel::build(cup.mesh);
   pcl::icf::tracking::TrackerParams one, all;
@@ -136,9 +137,9 @@ TEST(ObjectTracker, SameFramesSamePoses) {
   b.addObject(model, "Box5");
   a.addObject(cup_model, "Cup");  // two objects: refined in parallel by b
   b.addObject(cup_model, "Cup");
-  const test::SequenceSpec spec = movingBoxSequence(200);
+  const synthetic::SequenceSpec spec = movingBoxSequence(200);
   for (int f = 0; f < 3; ++f) {
-    const test::TabletopScene scene = test::renderSequenceFrame(spec, f).scene;
+    const synthetic::TabletopScene scene = synthetic::renderSequenceFrame(spec, f).scene;
     const auto oa = a.track(*scene.scan.cloud).objects;
     const auto ob = b.track(*scene.scan.cloud).objects;
     for (std::size_t k = 0; k < 2; ++k) {
@@ -197,8 +198,8 @@ TEST(ObjectTracker, YcbVideoFramesTwoToTen) {
     std::printf(
         "frame %d %s confidence %.3f, refinement %.1f ms, verification %.1f ms, search "
         "%.0f ms, depth image %.1f ms, error %.1f mm\n",
-        frame, toString(t.state), t.confidence, t.refine_ms, t.verify_ms, t.search_ms, out.image_ms,
-        1e3 * offset.norm());
+        frame, toString(t.state).c_str(), t.confidence, t.refine_ms, t.verify_ms, t.search_ms,
+        out.image_ms, 1e3 * offset.norm());
     EXPECT_LE(offset.norm(), 0.01);
   }
 }

@@ -28,7 +28,7 @@
 //   (the similar shape, same colour) and the neighbours, the whole organized frame. Groups
 //   P-TallCylinder, P-Box5, P-Amicelly, P-EisKaffe, P-YellowRoundSalt; the manifest line has
 //   the target's truth and cluster=all (for icf-scene: find the right one of two look-alikes).
-// --kind clutter: N cluttered desks (test::makeClutterScene, issue 12): 10-25 objects of
+// --kind clutter: N cluttered desks (synthetic::makeClutterScene, issue 12): 10-25 objects of
 //   every model but the target's, most touching a neighbour, some standing on a box or a can,
 //   2-5 more on a shelf behind the desk's far edge, seen from 0.5-0.8 m above at 35-60 degrees
 //   with Kinect v1 edge artefacts (holes and flying pixels along depth edges) besides the noise;
@@ -47,7 +47,7 @@
 //   (per frame and object: present, visible fraction, pose) and tracked_models.txt (the
 //   tracked models' paths, relative to the sequence); no manifest.
 // Noise everywhere: 1.5 mm at 1 m growing with depth^2, 5% outliers within +-5 cm along the
-// ray (test::ScanNoise defaults). Case k of a group draws from std::mt19937_64 seeded with
+// ray (synthetic::ScanNoise defaults). Case k of a group draws from std::mt19937_64 seeded with
 // seed + 1000 * group + k, so adding cases never changes the earlier ones.
 //
 // Writes DIR/models/<Model>.ply (binary PLY, metres), DIR/<kind>/<case>.pcd (binary_compressed PCD,
@@ -87,7 +87,7 @@
 namespace {
 
 namespace fs = std::filesystem;
-namespace t = pcl::icf::test;
+namespace t = pcl::icf::synthetic;
 
 struct Options {
   fs::path out;

@@ -19,14 +19,14 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string dir = argv[1];
-  const auto model = pcl::icf::test::thesisModel("Box5");
+  const auto model = pcl::icf::synthetic::thesisModel("Box5");
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = Eigen::Vector3d(0.05, -0.03, 0.85);
   pose.rotate(Eigen::AngleAxisd(0.9, Eigen::Vector3d(0.4, 1.0, 0.3).normalized()));
-  pcl::icf::test::ScanNoise noise;
+  pcl::icf::synthetic::ScanNoise noise;
   noise.seed = 2013;
-  const auto cluster =
-      pcl::icf::test::renderCluster(model.mesh, pose, pcl::icf::test::CameraIntrinsics(), noise);
+  const auto cluster = pcl::icf::synthetic::renderCluster(
+      model.mesh, pose, pcl::icf::synthetic::CameraIntrinsics(), noise);
   pcl::io::savePCDFileBinaryCompressed(dir + "/box5_cluster.pcd", *cluster);
   pcl::io::savePLYFile(dir + "/box5.ply", model.mesh);
   std::ofstream truth(dir + "/box5_truth.txt");
@@ -36,19 +36,19 @@ int main(int argc, char** argv) {
 
   // The table-top scene: a Kinect's field of view at half resolution, camera 0.6 m above the
   // table looking down at 45 degrees (makeTabletopScene), Box5 in front, two distractors.
-  pcl::icf::test::CameraIntrinsics half;
+  pcl::icf::synthetic::CameraIntrinsics half;
   half.width = 320;
   half.height = 240;
   half.fx = half.fy = 262.5;
   half.cx = 159.5;
   half.cy = 119.5;
-  pcl::icf::test::ScanNoise table_noise;
+  pcl::icf::synthetic::ScanNoise table_noise;
   table_noise.seed = 2014;
-  const std::vector<pcl::icf::test::SyntheticModel> objects = {
-      model, pcl::icf::test::thesisModel("Cup"), pcl::icf::test::thesisModel("Statue")};
+  const std::vector<pcl::icf::synthetic::SyntheticModel> objects = {
+      model, pcl::icf::synthetic::thesisModel("Cup"), pcl::icf::synthetic::thesisModel("Statue")};
   const std::vector<Eigen::Vector3d> placement = {
       {0.02, -0.05, 0.5}, {-0.22, 0.08, 0.0}, {0.22, 0.10, -0.4}};
-  const auto scene = pcl::icf::test::makeTabletopScene(objects, placement, half, table_noise);
+  const auto scene = pcl::icf::synthetic::makeTabletopScene(objects, placement, half, table_noise);
   pcl::io::savePCDFileBinaryCompressed(dir + "/tabletop_box5.pcd", *scene.scan.cloud);
   std::ofstream table_truth(dir + "/tabletop_box5_truth.txt");
   table_truth.precision(9);

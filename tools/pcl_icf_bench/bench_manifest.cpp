@@ -15,7 +15,7 @@ namespace pcl_icf_tools {
 namespace bench {
 
 namespace fs = std::filesystem;
-namespace t = pcl::icf::test;
+namespace t = pcl::icf::synthetic;
 
 namespace {
 

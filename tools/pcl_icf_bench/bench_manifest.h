@@ -47,7 +47,7 @@ struct CaseSpec {
 
 /** The symmetry group of a manifest spec: none, box:SX,SY,SZ, prism:N, cylinder,
  * cylinder:noflip. BadInput (naming \a where) otherwise. */
-pcl::icf::test::Symmetry parseSymmetry(const std::string& spec, const std::string& where);
+pcl::icf::synthetic::Symmetry parseSymmetry(const std::string& spec, const std::string& where);
 
 /** Every case of a manifest, paths resolved against its folder; BadInput naming the line on
  * any malformed or repeated entry. */

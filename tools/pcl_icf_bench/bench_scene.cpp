@@ -49,7 +49,7 @@ std::string verificationTerms(const localization::ClusterLocalization& c) {
 
 /** "Found: cluster 3 of 19, score 0.71" or "NotFound: 19 clusters; best score 0.42: why". */
 std::string describe(const localization::Localization& loc) {
-  std::string text = std::string(localization::toString(loc.status)) + ": ";
+  std::string text = localization::toString(loc.status) + ": ";
   const auto n = std::to_string(loc.clusters.size());
   char score[32];
   if (loc.best >= 0) {

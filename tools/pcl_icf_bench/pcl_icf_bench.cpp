@@ -83,7 +83,7 @@
 namespace {
 
 namespace fs = std::filesystem;
-namespace t = pcl::icf::test;
+namespace t = pcl::icf::synthetic;
 using namespace pcl_icf_tools::bench;
 using Clock = std::chrono::steady_clock;
 

@@ -193,7 +193,7 @@ SceneOutcome runScene(std::size_t i, const std::string& scene_path, const Model&
     char buf[512];
     std::snprintf(buf, sizeof buf, "%-32s %-10s %7s %7s %8.2f  %s",
                   fs::path(scene_path).filename().string().c_str(),
-                  localization::toString(run.loc.status),
+                  localization::toString(run.loc.status).c_str(),
                   run.loc.best >= 0 ? std::to_string(run.loc.best).c_str() : "-",
                   run.loc.best >= 0 ? fixed(result["best"]["score"].get<double>(), 3).c_str() : "-",
                   run.ms / 1e3, translation.c_str());

@@ -209,8 +209,9 @@ void printReport(const Scene& scene, const Model& model, const Run& run, bool se
               pcl_icf_tool::unitsName(model.units));
   if (segment)
     std::printf("table  %s, %zu plane points, %zu clusters above it, %zu candidates tried\n",
-                seg::toString(loc.segmentation.status), loc.segmentation.plane.inliers.size(),
-                loc.segmentation.clusters.size(), loc.clusters.size());
+                seg::toString(loc.segmentation.status).c_str(),
+                loc.segmentation.plane.inliers.size(), loc.segmentation.clusters.size(),
+                loc.clusters.size());
   if (!loc.clusters.empty()) {
     std::printf("\n  #  points   confidence  coverage  inliers  rmse[mm]  result\n");
     for (std::size_t k = 0; k < loc.clusters.size(); ++k) {
@@ -224,7 +225,7 @@ void printReport(const Scene& scene, const Model& model, const Run& run, bool se
   }
   std::printf("\n");
   if (loc.best < 0) {
-    std::printf("no object found: %s (%s)\n", localization::toString(loc.status),
+    std::printf("no object found: %s (%s)\n", localization::toString(loc.status).c_str(),
                 loc.message.c_str());
     if (segment && loc.status == localization::LocalizationStatus::NoClusters)
       std::printf("       (for a cloud that holds one object, use --no-segment)\n");

@@ -9,7 +9,8 @@
 //
 // Reads SEQDIR/truth.json and SEQDIR/NAME (default poses.jsonl: the tool's stdout for
 // SEQDIR/frames.txt) and prints a markdown table, one row per sequence and tracked object:
-//   accurate  frames with a pose within 1 cm / 5 deg (symmetry-aware, test::poseError) over the
+//   accurate  frames with a pose within 1 cm / 5 deg (symmetry-aware, synthetic::poseError) over
+//   the
 //             frames the object is present and at least F (default 0.5) visible
 //   hidden    the same over the present frames it is less visible (not a bar)
 //   absent    frames with a pose while it is off the table (the bar: 0)
@@ -35,7 +36,7 @@
 namespace {
 
 namespace fs = std::filesystem;
-namespace t = pcl::icf::test;
+namespace t = pcl::icf::synthetic;
 using json = nlohmann::json;
 using pcl_icf_tools::bench::BadInput;
 

@@ -38,7 +38,7 @@ struct ObjectTracker::FrameView : internal::SceneView {
   Eigen::Isometry3f camera_to_scene = Eigen::Isometry3f::Identity();
 };
 
-const char* toString(TrackState state) {
+std::string toString(TrackState state) {
   switch (state) {
     case TrackState::Searching:
       return "searching";

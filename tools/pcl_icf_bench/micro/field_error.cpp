@@ -43,8 +43,9 @@ int main() {
   std::printf(
       "| mesh | faces | cell (mm) | medial cells | median error (mm) | p99 (mm) | max (mm) "
       "|\n|---|---|---|---|---|---|---|\n");
-  report("box 14x9x5 cm", FaceMesh::build(test::makeBox(0.14, 0.09, 0.05)));
-  report("cylinder (YellowRoundSalt)", FaceMesh::build(test::thesisModel("YellowRoundSalt").mesh));
+  report("box 14x9x5 cm", FaceMesh::build(synthetic::makeBox(0.14, 0.09, 0.05)));
+  report("cylinder (YellowRoundSalt)",
+         FaceMesh::build(synthetic::thesisModel("YellowRoundSalt").mesh));
   const std::string bunny = std::string(PCL_ICF_SHARED_DATA) + "/meshes/bunny.ply";
   if (std::filesystem::exists(bunny))
     report("Stanford bunny", FaceMesh::build(io::loadPolygonMesh(bunny)));

@@ -35,16 +35,17 @@ double median(std::vector<double> v) {
 
 using Method = std::function<Eigen::Matrix4f(const pcl::PointCloud<pcl::PointXYZ>::Ptr&)>;
 
-Stats run(const test::SyntheticModel& model, const Method& method, int trials) {
+Stats run(const synthetic::SyntheticModel& model, const Method& method, int trials) {
   Stats s;
   for (int trial = 0; trial < trials; ++trial) {
     const auto [truth, cluster] =
-        test::randomView(model.mesh, 5000 + static_cast<std::uint64_t>(trial));
+        synthetic::randomView(model.mesh, 5000 + static_cast<std::uint64_t>(trial));
     s.points.push_back(static_cast<double>(cluster->size()));
     const auto start = Clock::now();
     const Eigen::Matrix4f pose = method(cluster);
     s.ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
-    const auto e = test::poseError(Eigen::Isometry3d(pose.cast<double>()), truth, model.symmetry);
+    const auto e =
+        synthetic::poseError(Eigen::Isometry3d(pose.cast<double>()), truth, model.symmetry);
     s.t_mm.push_back(1e3 * e.translation);
     s.r_deg.push_back(e.rotation_deg);
     s.ok += e.translation <= 0.005 && e.rotation_deg <= 3.0;
@@ -68,8 +69,8 @@ int main(int argc, char** argv) {
   std::printf(
       "| model | method | trials | median points | success (5 mm, 3 deg) | median t err (mm) | "
       "median r err (deg) | median time (ms) |\n|---|---|---|---|---|---|---|---|\n");
-  for (const std::string& name : test::thesisModelNames()) {
-    const test::SyntheticModel model = test::thesisModel(name);
+  for (const std::string& name : synthetic::thesisModelNames()) {
+    const synthetic::SyntheticModel model = synthetic::thesisModel(name);
     const auto mesh = pcl::make_shared<pcl::PolygonMesh>(model.mesh);
     const IcfModel::ConstPtr prepared = IcfModel::build(model.mesh);
 

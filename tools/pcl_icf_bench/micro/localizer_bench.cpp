@@ -48,13 +48,14 @@ int main(int argc, char** argv) {
   std::printf(
       "| scene | points | clusters tried | found | segmentation (ms) | registration (ms) "
       "| whole scene (ms) |\n|---|---|---|---|---|---|---|\n");
-  const std::vector<test::SyntheticModel> objects = {
-      test::thesisModel("Box5"), test::thesisModel("Cup"), test::thesisModel("Statue")};
-  test::ScanNoise noise;
+  const std::vector<synthetic::SyntheticModel> objects = {synthetic::thesisModel("Box5"),
+                                                          synthetic::thesisModel("Cup"),
+                                                          synthetic::thesisModel("Statue")};
+  synthetic::ScanNoise noise;
   noise.outlier_ratio = 0.0;
   const auto scene =
-      test::makeTabletopScene(objects, {{0.0, 0.0, 0.4}, {-0.2, 0.05, 0.0}, {0.2, -0.03, 0.7}},
-                              test::CameraIntrinsics(), noise);
+      synthetic::makeTabletopScene(objects, {{0.0, 0.0, 0.4}, {-0.2, 0.05, 0.0}, {0.2, -0.03, 0.7}},
+                                   synthetic::CameraIntrinsics(), noise);
   const auto box = IcfModel::build(objects.front().mesh);
   time("synthetic 640x480, 3 objects (Box5 target)", *scene.scan.cloud, *box, runs);
 

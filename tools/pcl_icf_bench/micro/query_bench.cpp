@@ -29,9 +29,10 @@ struct Model {
 
 std::unique_ptr<FaceMesh> loadModel(const std::string& name) {
   if (name == "box")
-    return std::make_unique<FaceMesh>(FaceMesh::build(test::makeBox(0.14, 0.09, 0.05)));
+    return std::make_unique<FaceMesh>(FaceMesh::build(synthetic::makeBox(0.14, 0.09, 0.05)));
   if (name == "cylinder")
-    return std::make_unique<FaceMesh>(FaceMesh::build(test::thesisModel("YellowRoundSalt").mesh));
+    return std::make_unique<FaceMesh>(
+        FaceMesh::build(synthetic::thesisModel("YellowRoundSalt").mesh));
   const std::string path = std::string(PCL_ICF_SHARED_DATA) + "/meshes/" + name;
   if (!std::filesystem::exists(path))
     return nullptr;

@@ -174,7 +174,7 @@ enum class LocalizationStatus {
   NoClusters,  ///< segmentation gave no cluster (see segmentation.status / message)
   BadScene,    ///< empty, all-NaN or millimetre scene, or behind the camera (see message)
 };
-const char* toString(LocalizationStatus status);
+std::string toString(LocalizationStatus status);
 
 /** \brief The whole scene's outcome. */
 struct Localization {

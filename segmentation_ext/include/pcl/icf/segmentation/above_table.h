@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 
 #include <cstddef>
+#include <string>
 
 namespace pcl {
 namespace icf {
@@ -42,7 +43,7 @@ enum class AboveTableStatus {
 };
 
 /** \brief "Ok", "NoPlane" or "DegenerateHull". */
-const char* toString(AboveTableStatus status);
+std::string toString(AboveTableStatus status);
 
 /** \brief The points above the table and the hull they were tested against. */
 struct AboveTable {

@@ -10,6 +10,7 @@
 #include <pcl/types.h>
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace pcl {
@@ -37,7 +38,7 @@ enum class ClusterMethod {
 };
 
 /** \brief "Grid", "PclKdTree" or "PclOrganized". */
-const char* toString(ClusterMethod method);
+std::string toString(ClusterMethod method);
 
 /** \brief Parameters of the Euclidean clustering stage. */
 struct ClusterParams {

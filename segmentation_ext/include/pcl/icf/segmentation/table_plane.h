@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 namespace pcl {
 namespace icf {
@@ -56,7 +57,7 @@ enum class TablePlaneStatus {
 };
 
 /** \brief "Found", "NoPlane" or "TooFewInliers". */
-const char* toString(TablePlaneStatus status);
+std::string toString(TablePlaneStatus status);
 
 /** \brief The table plane: coefficients, inliers and outcome. */
 struct TablePlane {

@@ -69,7 +69,7 @@ enum class TabletopStatus {
 };
 
 /** \brief The enumerator's name, e.g. "SceneUnitsSuspect". */
-const char* toString(TabletopStatus status);
+std::string toString(TabletopStatus status);
 
 /** \brief Wall-clock time of each stage of segmentTabletop, in milliseconds (steady_clock). A
  * stage that did not run reports 0. */

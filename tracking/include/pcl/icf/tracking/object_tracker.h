@@ -40,7 +40,7 @@ enum class TrackState {
   Refound,    ///< found again by a search after a loss, or after a failed refinement
 };
 /** "searching", "found", "tracking", "lost", "re-found". */
-const char* toString(TrackState state);
+std::string toString(TrackState state);
 
 /** \brief Parameters of ObjectTracker. Lengths in metres (the scene's units). */
 struct TrackerParams {

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Writes the fuzzers' seed corpora under fuzz/corpus/<target>/: small valid files of every
 variant the loaders accept (PCD ascii/binary/binary_compressed, organized, colour; PLY ascii
-and binary, with and without faces; XYZ with 3 and 6 columns; OBJ; STL ascii and binary) and
+and binary, with and without faces; XYZ with 3 and 6 columns; OBJ; STL ascii and binary; legacy
+VTK ascii and binary, classic and 5.1 cell layouts, with a triangle strip) and
 pipeline inputs in fuzz_pipeline's byte layout, plus the test/data fixtures. Seeds stay small
 (a few KiB) so that libFuzzer's default -max_len stays small. Re-run after changing it; the
 files are committed."""
@@ -140,6 +141,40 @@ def stl_seeds():
         b"binary cube".ljust(80, b" ") + struct.pack("<I", len(CUBE_T)) + body)
 
 
+def vtk_seeds():
+    copy("fuzz_mesh_vtk", "box_quads.vtk")
+    head = "# vtk DataFile Version {}\ncube\n{}\nDATASET POLYDATA\n"
+    # Version 5.1 (VTK 9's writer): OFFSETS and CONNECTIVITY arrays; the sides as one strip
+    # (0 1 4 5 ... wraps around the cube), top and bottom as triangles; attributes after.
+    strip = [0, 4, 1, 5, 3, 7, 2, 6, 0, 4]
+    tris = CUBE_T[:4]
+    offsets = [3 * i for i in range(len(tris) + 1)]
+    put("fuzz_mesh_vtk", "cube_strip_51.vtk",
+        head.format("5.1", "ASCII") + "POINTS 8 float\n" +
+        "".join(f"{x} {y} {z}\n" for x, y, z in CUBE_V) +
+        f"POLYGONS {len(offsets)} {3 * len(tris)}\nOFFSETS vtktypeint64\n" +
+        " ".join(map(str, offsets)) + "\nCONNECTIVITY vtktypeint64\n" +
+        " ".join(str(i) for t in tris for i in t) + "\n" +
+        "TRIANGLE_STRIPS 2 10\nOFFSETS vtktypeint64\n0 10\nCONNECTIVITY vtktypeint64\n" +
+        " ".join(map(str, strip)) + "\nPOINT_DATA 8\nSCALARS s float 1\nLOOKUP_TABLE default\n" +
+        " ".join("1" for _ in CUBE_V) + "\n")
+    # Classic layout, BINARY (big-endian): double points, int32 cell records.
+    cells = b"".join(struct.pack(">4i", 3, *t) for t in CUBE_T)
+    put("fuzz_mesh_vtk", "cube_binary_42.vtk",
+        head.format("4.2", "BINARY").encode() + b"POINTS 8 double\n" +
+        b"".join(struct.pack(">3d", *v) for v in CUBE_V) +
+        f"\nPOLYGONS {len(CUBE_T)} {4 * len(CUBE_T)}\n".encode() + cells +
+        b"\nLINES 1 3\n" + struct.pack(">3i", 2, 0, 7) + b"\n")
+    # Version 5.1, BINARY: unsigned_char points, int32 offsets and connectivity.
+    put("fuzz_mesh_vtk", "cube_binary_51.vtk",
+        head.format("5.1", "BINARY").encode() + b"POINTS 8 unsigned_char\n" +
+        bytes(int(c * 20) for v in CUBE_V for c in v) +
+        f"\nPOLYGONS {len(CUBE_T) + 1} {3 * len(CUBE_T)}\nOFFSETS vtktypeint32\n".encode() +
+        struct.pack(f">{len(CUBE_T) + 1}i", *range(0, 3 * len(CUBE_T) + 1, 3)) +
+        b"\nCONNECTIVITY vtktypeint32\n" +
+        struct.pack(f">{3 * len(CUBE_T)}i", *(i for t in CUBE_T for i in t)) + b"\n")
+
+
 def pipeline_seeds():
     def mesh(vertices, faces):
         out = bytes([len(vertices) - 3, len(faces) - 1])
@@ -172,4 +207,5 @@ if __name__ == "__main__":
     xyz_seeds()
     obj_seeds()
     stl_seeds()
+    vtk_seeds()
     pipeline_seeds()

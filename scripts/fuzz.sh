@@ -15,7 +15,7 @@ cd "$(dirname "$0")/.."
 FUZZ_SECONDS=${FUZZ_SECONDS:-60}
 FUZZ_JOBS=${FUZZ_JOBS:-1}
 ALL=(fuzz_scene_pcd fuzz_scene_ply fuzz_scene_xyz fuzz_mesh_ply fuzz_mesh_obj fuzz_mesh_stl
-     fuzz_pipeline)
+     fuzz_mesh_vtk fuzz_pipeline)
 TARGETS=("${@:-${ALL[@]}}")
 
 start=$(date +%s)

@@ -2,13 +2,15 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
-// Internal to pcl_icf::io: our own readers for PCD, PLY, OBJ and STL.
+// Internal to pcl_icf::io: our own readers for PCD, PLY, OBJ, STL and legacy VTK.
 //
 // Why not PCL's and VTK's readers: fuzzing them through our loaders (fuzz/, issue 7) found a
 // SIGSEGV in pcl::PCDReader on a FIELDS line of control bytes and a 100 TB allocation when
 // binary data after DATA happened to read as a header line, an assert() in pcl::PLYReader
 // on a list property inside the vertex element, a SIGSEGV in vtkOBJReader on a malformed face
-// line and a 7 GB allocation in vtkSTLReader from a binary STL whose triangle count lies.
+// line and a 7 GB allocation in vtkSTLReader from a binary STL whose triangle count lies;
+// VTK's legacy vtkPolyDataReader crashed (SIGSEGV in vtkDataReader::ReadString) on a .vtk
+// file cut right after its POLYGONS line.
 // These readers check every size against the bytes actually present, never allocate more
 // than the file can hold, and throw FileError naming the file (and the line, for text) and
 // the reason. doc/HOSTILE_INPUTS.md lists the inputs tried.
@@ -99,6 +101,17 @@ pcl::PolygonMesh readObjFile(const std::string& path);
  * Identical vertices are merged. \throws FileError for a file shorter than its triangle count
  * says, a malformed ascii line, or ascii data that ends inside a facet */
 pcl::PolygonMesh readStlFile(const std::string& path);
+
+/** Reads a legacy VTK polygon mesh ("# vtk DataFile Version X.Y", a title, ASCII or BINARY
+ * (big-endian), DATASET POLYDATA), as VTK's vtkPolyDataReader does: POINTS of any VTK number
+ * type, POLYGONS and TRIANGLE_STRIPS (split into triangles of alternating winding), VERTICES
+ * and LINES read past, in the classic cell layout (versions < 5: "count i0 i1 ..." records) or
+ * version 5's OFFSETS / CONNECTIVITY arrays; METADATA is skipped, reading stops at POINT_DATA,
+ * CELL_DATA or FIELD. Vertices as float x, y, z, as readObjFile gives them.
+ * \throws FileError naming the line for another DATASET kind, a count the rest of the file
+ * cannot hold (checked before allocating), a non-number, truncated data or an index out of
+ * range */
+pcl::PolygonMesh readVtkFile(const std::string& path);
 
 /** Reads a PCD file (ascii, binary or binary_compressed) into a PCLPointCloud2, as PCL's
  * reader would, with a strict header that ends at the first line starting with DATA (none in

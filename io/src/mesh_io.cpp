@@ -5,9 +5,6 @@
 #include "file_formats.h"
 
 #include <pcl/icf/io/mesh_io.h>
-#include <pcl/io/vtk_lib_io.h>
-
-#include <vtkObject.h>
 
 #include <algorithm>
 #include <cctype>
@@ -45,28 +42,20 @@ pcl::PolygonMesh loadPolygonMesh(const std::string& path) {
   requireReadableFile(path);
   const std::string ext = fileExtension(path);
   pcl::PolygonMesh mesh;
-  // VTK readers print to stderr on bad input; we report through the exception instead.
-  vtkObject::GlobalWarningDisplayOff();
-  int result = -1;
-  // PLY, OBJ and STL: our readers (file_formats.h); PCL's and VTK's crash on malformed files.
+  // Our readers (file_formats.h) for every format; PCL's and VTK's crash on malformed files.
   if (ext == "ply") {
     detail::PlyContents ply = detail::readPlyFile(path, true, detail::kMaxMeshElements);
     mesh.cloud = std::move(ply.vertices);
     mesh.polygons = std::move(ply.polygons);
-    result = 0;
-  } else if (ext == "obj") {
+  } else if (ext == "obj")
     mesh = detail::readObjFile(path);
-    result = 0;
-  } else if (ext == "stl") {
+  else if (ext == "stl")
     mesh = detail::readStlFile(path);
-    result = 0;
-  } else if (ext == "vtk")
-    result = pcl::io::loadPolygonFileVTK(path, mesh);
+  else if (ext == "vtk")
+    mesh = detail::readVtkFile(path);
   else
     throw FileError(path + ": unknown mesh extension '." + ext +
                     "' (expected .ply, .obj, .stl or .vtk)");
-  if (result < 0)
-    throw FileError(path + ": malformed or truncated ." + ext + " file");
   if (mesh.cloud.width * mesh.cloud.height == 0 || mesh.cloud.data.empty())
     throw FileError(path + ": no vertices could be read (malformed, truncated or empty ." + ext +
                     " file)");

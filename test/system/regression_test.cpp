@@ -146,7 +146,7 @@ TEST(FuzzSeeds, EverySceneSeedLoads) {
 }
 
 TEST(FuzzSeeds, EveryMeshSeedBuilds) {
-  for (const char* target : {"fuzz_mesh_ply", "fuzz_mesh_obj", "fuzz_mesh_stl"}) {
+  for (const char* target : {"fuzz_mesh_ply", "fuzz_mesh_obj", "fuzz_mesh_stl", "fuzz_mesh_vtk"}) {
     const fs::path dir = corpus(target);
     ASSERT_TRUE(fs::is_directory(dir)) << dir;
     for (const auto& entry : fs::directory_iterator(dir)) {

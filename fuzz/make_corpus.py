@@ -165,14 +165,15 @@ def vtk_seeds():
         b"".join(struct.pack(">3d", *v) for v in CUBE_V) +
         f"\nPOLYGONS {len(CUBE_T)} {4 * len(CUBE_T)}\n".encode() + cells +
         b"\nLINES 1 3\n" + struct.pack(">3i", 2, 0, 7) + b"\n")
-    # Version 5.1, BINARY: unsigned_char points, int32 offsets and connectivity.
+    # Version 5.1, BINARY: unsigned_char points, 64-bit offsets and connectivity (VTK 9.1's
+    # reader takes vtktypeint64 only there).
     put("fuzz_mesh_vtk", "cube_binary_51.vtk",
         head.format("5.1", "BINARY").encode() + b"POINTS 8 unsigned_char\n" +
         bytes(int(c * 20) for v in CUBE_V for c in v) +
-        f"\nPOLYGONS {len(CUBE_T) + 1} {3 * len(CUBE_T)}\nOFFSETS vtktypeint32\n".encode() +
-        struct.pack(f">{len(CUBE_T) + 1}i", *range(0, 3 * len(CUBE_T) + 1, 3)) +
-        b"\nCONNECTIVITY vtktypeint32\n" +
-        struct.pack(f">{3 * len(CUBE_T)}i", *(i for t in CUBE_T for i in t)) + b"\n")
+        f"\nPOLYGONS {len(CUBE_T) + 1} {3 * len(CUBE_T)}\nOFFSETS vtktypeint64\n".encode() +
+        struct.pack(f">{len(CUBE_T) + 1}q", *range(0, 3 * len(CUBE_T) + 1, 3)) +
+        b"\nCONNECTIVITY vtktypeint64\n" +
+        struct.pack(f">{3 * len(CUBE_T)}q", *(i for t in CUBE_T for i in t)) + b"\n")
 
 
 def pipeline_seeds():

@@ -106,8 +106,8 @@ pcl::PolygonMesh readStlFile(const std::string& path);
  * (big-endian), DATASET POLYDATA), as VTK's vtkPolyDataReader does: POINTS of any VTK number
  * type, POLYGONS and TRIANGLE_STRIPS (split into triangles of alternating winding), VERTICES
  * and LINES read past, in the classic cell layout (versions < 5: "count i0 i1 ..." records) or
- * version 5's OFFSETS / CONNECTIVITY arrays; METADATA is skipped, reading stops at POINT_DATA,
- * CELL_DATA or FIELD. Vertices as float x, y, z, as readObjFile gives them.
+ * version 5's OFFSETS / CONNECTIVITY arrays; FIELD data and METADATA are read past, reading
+ * stops at POINT_DATA or CELL_DATA. Vertices as float x, y, z, as readObjFile gives them.
  * \throws FileError naming the line for another DATASET kind, a count the rest of the file
  * cannot hold (checked before allocating), a non-number, truncated data or an index out of
  * range */

@@ -63,7 +63,7 @@ std::string lower(std::string s) {
 /** One cell section (POLYGONS, TRIANGLE_STRIPS) as offsets into its connectivity. */
 struct CellSection {
   std::string name;
-  std::size_t line = 0;
+  std::size_t pos = 0;  // of its keyword, for messages
   std::vector<std::uint64_t> offsets{0};
   std::vector<std::int64_t> connectivity;
 };
@@ -80,7 +80,7 @@ class VtkParser {
     std::string word;
     while (nextWord(word)) {
       const std::string key = lower(word);
-      const std::size_t line = lineAt(pos_);
+      const std::size_t keyword = pos_;
       if (key == "points") {
         if (have_points)
           fail("a second POINTS section");
@@ -89,12 +89,14 @@ class VtkParser {
       } else if (key == "polygons" || key == "triangle_strips" || key == "vertices" ||
                  key == "lines") {
         CellSection cells = readCells(word);
-        cells.line = line;
+        cells.pos = keyword;
         if (key == "polygons" || key == "triangle_strips")
           faces.push_back(std::move(cells));
       } else if (key == "metadata") {
         skipMetadata();
-      } else if (key == "point_data" || key == "cell_data" || key == "field") {
+      } else if (key == "field") {
+        skipField();
+      } else if (key == "point_data" || key == "cell_data") {
         break;  // attributes: not needed for a mesh
       } else {
         fail("'" + printable(word) + "' is not a POLYDATA section keyword");
@@ -329,7 +331,7 @@ class VtkParser {
     std::uint64_t used = 0;
     for (std::uint64_t c = 0; c < n; ++c) {
       const std::int64_t count = readInteger(int32, cells.name);
-      if (count < 0 || static_cast<std::uint64_t>(count) > size - used - 1)
+      if (count < 0 || used >= size || static_cast<std::uint64_t>(count) > size - used - 1)
         fail(cells.name + " cell " + std::to_string(c) + " claims " + std::to_string(count) +
              " points, more than its size " + std::to_string(size) + " leaves");
       used += 1 + static_cast<std::uint64_t>(count);
@@ -383,6 +385,39 @@ class VtkParser {
       cells.connectivity.push_back(readInteger(type, cells.name + " CONNECTIVITY"));
   }
 
+  /** Dataset-level field data, which VTK writes before POINTS: "FIELD name arrays", then per
+   * array "name components tuples type" and its values (a NULL_ARRAY has none), each maybe
+   * followed by METADATA. Read past; string arrays are refused. */
+  void skipField() {
+    requireWord("the FIELD name");
+    const std::uint64_t arrays = requireCount("FIELD arrays");
+    for (std::uint64_t a = 0; a < arrays; ++a) {
+      std::string name = requireWord("a FIELD array");
+      if (lower(name) == "metadata") {
+        skipMetadata();
+        name = requireWord("a FIELD array");
+      }
+      if (name == "NULL_ARRAY")
+        continue;
+      const std::string section = "FIELD array " + printable(name);
+      const std::uint64_t components = requireCount(section + " components");
+      const std::uint64_t tuples = requireCount(section + " tuples");
+      if (components > kMaxMeshElements || tuples > kMaxMeshElements ||
+          components * tuples > 4 * kMaxMeshElements)
+        fail(section + " claims " + std::to_string(components) + " x " + std::to_string(tuples) +
+             " values, more than this reader accepts");
+      const ValueType& type = requireType(section);
+      const std::uint64_t count = components * tuples;
+      startValues(count, type, section);
+      if (binary_) {
+        pos_ += count * static_cast<std::uint64_t>(type.bytes);
+        continue;
+      }
+      for (std::uint64_t i = 0; i < count; ++i)
+        requireWord("the end of " + section);
+    }
+  }
+
   /** METADATA (VTK 8+ array information): lines up to the first empty one. */
   void skipMetadata() {
     restOfLine();
@@ -406,7 +441,7 @@ class VtkParser {
           fail(cells.name + " cell " + std::to_string(c) + " refers to point " +
                    std::to_string(p[k]) + ", but the file has " + std::to_string(n_points) +
                    " points",
-               lineStart(cells.line));
+               cells.pos);
       if (!strips) {
         pcl::Vertices face;
         face.vertices.assign(p, p + count);
@@ -422,18 +457,6 @@ class VtkParser {
         polygons.push_back(std::move(face));
       }
     }
-  }
-
-  /** The byte offset of the start of line \a line (for messages about a section). */
-  std::size_t lineStart(std::size_t line) const {
-    std::size_t pos = 0;
-    for (std::size_t l = 1; l < line && pos < data_.size(); ++l) {
-      pos = data_.find('\n', pos);
-      if (pos == std::string::npos)
-        return data_.size();
-      ++pos;
-    }
-    return pos;
   }
 
   const std::string& path_;

@@ -11,8 +11,13 @@
 
 #include <vtkCellArray.h>
 #include <vtkDataWriter.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkFloatArray.h>
 #include <vtkIdList.h>
+#include <vtkIntArray.h>
 #include <vtkNew.h>
+#include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataWriter.h>
@@ -161,9 +166,28 @@ TEST_F(MeshIo, VtkFixtureReadsAsVtkReadsIt) {
     EXPECT_EQ(field.datatype, pcl::PCLPointField::FLOAT32) << field.name;
 }
 
+TEST_F(MeshIo, VtkFuzzSeedsReadAsVtkReadsThem) {
+  const std::filesystem::path seeds =
+      std::filesystem::path(PCL_ICF_TEST_DATA) / ".." / ".." / "fuzz" / "corpus" / "fuzz_mesh_vtk";
+  ASSERT_TRUE(std::filesystem::is_directory(seeds)) << seeds;
+  for (const auto& entry : std::filesystem::directory_iterator(seeds)) {
+    const std::string path = entry.path().string();
+    SCOPED_TRACE(path);
+    pcl::PolygonMesh oracle;
+    ASSERT_GE(pcl::io::loadPolygonFileVTK(path, oracle), 0);
+    const pcl::PolygonMesh mesh = loadPolygonMesh(path);
+    EXPECT_EQ(vertexCoordinates(mesh), vertexCoordinates(oracle));
+    // pcl::io::loadPolygonFileVTK keeps polygons only; ours adds the strips' triangles after.
+    const auto faces = polygonIndices(mesh), oracle_faces = polygonIndices(oracle);
+    ASSERT_FALSE(oracle_faces.empty());
+    ASSERT_GE(faces.size(), oracle_faces.size());
+    EXPECT_EQ(decltype(faces)(faces.begin(), faces.begin() + oracle_faces.size()), oracle_faces);
+  }
+}
+
 TEST_F(MeshIo, VtkWrittenByVtkAsciiBinaryClassicAndNewLayout) {
-  // Seven points: a quad, a triangle and a strip of five points (three triangles, the middle
-  // one wound the other way), plus a line and a vertex cell, which are not faces.
+  // Seven points: a quad, a triangle and a strip of five points (its second triangle wound
+  // the other way), plus a line and a vertex cell, which are not faces.
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
   const double xyz[7][3] = {{0, 0, 0},      {1, 0, 0},      {1, 1, 0},       {0, 1, 0},
@@ -184,6 +208,23 @@ TEST_F(MeshIo, VtkWrittenByVtkAsciiBinaryClassicAndNewLayout) {
   data->SetStrips(strips);
   data->SetLines(lines);
   data->SetVerts(verts);
+  // Field data (written before POINTS, read past) and point data (after the cells, not read).
+  vtkNew<vtkDoubleArray> field_doubles;
+  field_doubles->SetName("scale");
+  field_doubles->SetNumberOfComponents(2);
+  for (int i = 0; i < 6; ++i)
+    field_doubles->InsertNextValue(0.5 * i);
+  vtkNew<vtkIntArray> field_ints;
+  field_ints->SetName("ids");
+  for (int i = 0; i < 4; ++i)
+    field_ints->InsertNextValue(-i);
+  data->GetFieldData()->AddArray(field_doubles);
+  data->GetFieldData()->AddArray(field_ints);
+  vtkNew<vtkFloatArray> scalars;
+  scalars->SetName("s");
+  for (int i = 0; i < 7; ++i)
+    scalars->InsertNextValue(static_cast<float>(i));
+  data->GetPointData()->SetScalars(scalars);
 
   // Oracle: the polydata's own points (as float) and cells; strips as VTK decomposes them.
   std::vector<float> expected_xyz;
@@ -209,7 +250,8 @@ TEST_F(MeshIo, VtkWrittenByVtkAsciiBinaryClassicAndNewLayout) {
         writer->SetFileTypeToASCII();
       ASSERT_EQ(writer->Write(), 1);
       const std::string bytes = fileBytes(path);
-      ASSERT_NE(bytes.find(version == 51 ? "OFFSETS" : "POLYGONS 2 9"), std::string::npos)
+      ASSERT_NE(bytes.find(version == 51 ? "OFFSETS" : "POLYGONS 2 9"), std::string::npos);
+      ASSERT_LT(bytes.find("FIELD FieldData 2"), bytes.find("POINTS 7 double"))
           << bytes.substr(0, 400);
       const pcl::PolygonMesh mesh = loadPolygonMesh(path);
       EXPECT_EQ(vertexCoordinates(mesh), expected_xyz);
@@ -256,6 +298,10 @@ TEST_F(MeshIo, VtkLyingCountsAndOtherDatasetsFailFast) {
                   "POLYGONS cell 0 claims 4000000000 points");
   expectFileError(write("index.vtk", head + triangle + "POLYGONS 1 4\n3 0 1 7\n"),
                   ":7: POLYGONS cell 0 refers to point 7, but the file has 3 points");
+  expectFileError(write("field.vtk", head + "FIELD FieldData 1\nbig 3 4000000000 float\n"),
+                  "FIELD array big claims 3 x 4000000000 values");
+  expectFileError(write("field_short.vtk", head + "FIELD FieldData 1\nf 3 1000 float\n1 2 3\n"),
+                  "FIELD array f claims 3000 values, more than the rest of the file can hold");
   const std::string binary = "# vtk DataFile Version 3.0\nlies\nBINARY\nDATASET POLYDATA\n";
   expectFileError(write("binary.vtk", binary + "POINTS 3 double\n" + std::string(8, '\0')),
                   "POINTS claims 9 values of double, the file holds 1");

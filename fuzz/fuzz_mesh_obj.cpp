@@ -2,7 +2,8 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
-// libFuzzer target: the OBJ mesh loader (VTK's reader), then FaceMesh::build and the index.
+// libFuzzer target: the OBJ mesh loader (our reader, io/src/obj_stl_readers.cpp), then
+// FaceMesh::build and the index.
 #include "fuzz_common.h"
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {

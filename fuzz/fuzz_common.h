@@ -172,3 +172,17 @@ inline void fuzzMeshFile(const ScratchFile& file, const std::uint8_t* data, std:
 }
 
 }  // namespace pcl_icf_fuzz
+
+/** \brief The two entry points of a file-format target: each input is written to a scratch file
+ * with extension \a ext (the loaders take paths and pick the format by it) and loaded by
+ * pcl_icf_fuzz::\a fuzz (fuzzMeshFile or fuzzSceneFile). */
+#define PCL_ICF_FILE_FUZZ_TARGET(ext, fuzz)                                           \
+  extern "C" int LLVMFuzzerInitialize(int*, char***) {                                \
+    pcl_icf_fuzz::quiet();                                                            \
+    return 0;                                                                         \
+  }                                                                                   \
+  extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) { \
+    static const pcl_icf_fuzz::ScratchFile file(ext);                                 \
+    pcl_icf_fuzz::fuzz(file, data, size);                                             \
+    return 0;                                                                         \
+  }

@@ -6,13 +6,4 @@
 // FaceMesh::build and the index.
 #include "fuzz_common.h"
 
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  pcl_icf_fuzz::quiet();
-  return 0;
-}
-
-extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const pcl_icf_fuzz::ScratchFile file("obj");
-  pcl_icf_fuzz::fuzzMeshFile(file, data, size);
-  return 0;
-}
+PCL_ICF_FILE_FUZZ_TARGET("obj", fuzzMeshFile)

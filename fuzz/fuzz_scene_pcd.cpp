@@ -2,17 +2,8 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
-// libFuzzer target: the PCD scene loader (ascii, binary, binary_compressed; PCL's reader behind our
-// header checks).
+// libFuzzer target: the PCD scene loader (ascii, binary, binary_compressed; our reader,
+// io/src/pcd_reader.cpp).
 #include "fuzz_common.h"
 
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  pcl_icf_fuzz::quiet();
-  return 0;
-}
-
-extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const pcl_icf_fuzz::ScratchFile file("pcd");
-  pcl_icf_fuzz::fuzzSceneFile(file, data, size);
-  return 0;
-}
+PCL_ICF_FILE_FUZZ_TARGET("pcd", fuzzSceneFile)

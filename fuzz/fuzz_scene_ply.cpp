@@ -2,16 +2,8 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
-// libFuzzer target: the PLY scene loader (the vertices as points).
+// libFuzzer target: the PLY scene loader (the vertices as points; our reader,
+// io/src/ply_reader.cpp).
 #include "fuzz_common.h"
 
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  pcl_icf_fuzz::quiet();
-  return 0;
-}
-
-extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const pcl_icf_fuzz::ScratchFile file("ply");
-  pcl_icf_fuzz::fuzzSceneFile(file, data, size);
-  return 0;
-}
+PCL_ICF_FILE_FUZZ_TARGET("ply", fuzzSceneFile)

@@ -12,11 +12,14 @@
  * F 8 and I 2), so the readers and the mesh code read each value through these. Find the field
  * with pcl::getFieldIndex and its size with pcl::getFieldSize. */
 
+#include <pcl/PCLPointCloud2.h>
 #include <pcl/PCLPointField.h>
+#include <pcl/common/io.h>
 #include <pcl/type_traits.h>
 
 #include <cstdint>
 #include <cstring>
+#include <string>
 
 namespace pcl {
 namespace icf {
@@ -85,6 +88,27 @@ inline void writeFieldValue(double v, std::uint8_t datatype, std::uint8_t* out) 
     const auto x = static_cast<decltype(type)>(v);
     std::memcpy(out, &x, sizeof x);
   });
+}
+
+/** \brief Finds the x, y and z fields of a mesh's vertex cloud (pcl::getFieldIndex), each of a
+ * type readFieldValue reads exactly and lying inside the point. Fills \a axes and returns an
+ * empty string, or returns why not: a missing field first (x, y, z in turn), then an unusable
+ * one. Used by FaceMesh and by the tool's posed mesh, so both accept the same vertices. */
+inline std::string findVertexFields(const pcl::PCLPointCloud2& cloud,
+                                    const pcl::PCLPointField* (&axes)[3]) {
+  const char* names[3] = {"x", "y", "z"};
+  for (int k = 0; k < 3; ++k) {
+    const int index = pcl::getFieldIndex(cloud, names[k]);
+    if (index < 0)
+      return std::string("mesh vertices have no '") + names[k] + "' field";
+    axes[k] = &cloud.fields[static_cast<std::size_t>(index)];
+  }
+  for (const pcl::PCLPointField* f : axes)
+    if (!isExactNumberField(f->datatype) ||
+        f->offset + pcl::getFieldSize(f->datatype) > cloud.point_step)
+      return "mesh vertex field '" + f->name + "' (PCL datatype " + std::to_string(f->datatype) +
+             ") is not an integer of 8 to 32 bits or a float, or lies outside the point";
+  return {};
 }
 
 }  // namespace internal

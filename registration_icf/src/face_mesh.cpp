@@ -4,7 +4,6 @@
  */
 #include <pcl_icf_internal/point_field.h>
 
-#include <pcl/common/io.h>
 #include <pcl/icf/face_mesh.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -119,23 +118,11 @@ std::vector<std::uint32_t> distinctLoop(const std::vector<std::uint32_t>& in) {
 std::vector<Eigen::Vector3f> readVertices(const pcl::PolygonMesh& mesh, float scale) {
   const pcl::PCLPointCloud2& cloud = mesh.cloud;
   const pcl::PCLPointField* axes[3];
-  int a = 0;
-  for (const char* name : {"x", "y", "z"}) {
-    const int index = pcl::getFieldIndex(cloud, name);
-    if (index < 0)
-      throw InvalidMeshError(std::string("mesh vertices have no '") + name + "' field");
-    axes[a++] = &cloud.fields[static_cast<std::size_t>(index)];
-  }
+  const std::string unusable = internal::findVertexFields(cloud, axes);
+  if (!unusable.empty())
+    throw InvalidMeshError(unusable);
   const std::size_t n = static_cast<std::size_t>(cloud.width) * cloud.height;
   const std::size_t row_step = cloud.height > 1 ? cloud.row_step : n * cloud.point_step;
-  for (const pcl::PCLPointField* f : axes) {
-    const std::size_t size = pcl::getFieldSize(f->datatype);
-    if (!internal::isExactNumberField(f->datatype) || f->offset + size > cloud.point_step)
-      throw InvalidMeshError("mesh vertex field '" + f->name + "' (PCL datatype " +
-                             std::to_string(f->datatype) +
-                             ") is not an integer of 8 to 32 bits or a float, or lies outside "
-                             "the point");
-  }
   if (n > 0 && (row_step < static_cast<std::size_t>(cloud.width) * cloud.point_step ||
                 cloud.data.size() < (cloud.height - 1) * row_step +
                                         static_cast<std::size_t>(cloud.width) * cloud.point_step))

@@ -8,7 +8,6 @@
 
 #include <pcl_icf_internal/point_field.h>
 
-#include <pcl/common/io.h>
 #include <pcl/conversions.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -34,20 +33,12 @@ struct VertexLayout {
   }
 };
 
-/** The layout of \a cloud's x, y, z fields; false when one is missing, of a type that is not a
- * number, outside the point, or the data is shorter than its vertices need. */
+/** The layout of \a cloud's x, y, z fields (the ones FaceMesh reads:
+ * pcl::icf::internal::findVertexFields); false when one is unusable or the data is shorter than
+ * its vertices need. */
 bool vertexLayout(const pcl::PCLPointCloud2& cloud, VertexLayout& layout) {
-  int k = 0;
-  for (const char* name : {"x", "y", "z"}) {
-    const int index = pcl::getFieldIndex(cloud, name);
-    if (index < 0)
-      return false;
-    const pcl::PCLPointField& f = cloud.fields[static_cast<std::size_t>(index)];
-    if (!pcl::icf::internal::isExactNumberField(f.datatype) ||
-        f.offset + pcl::getFieldSize(f.datatype) > cloud.point_step)
-      return false;
-    layout.axes[k++] = &f;
-  }
+  if (!pcl::icf::internal::findVertexFields(cloud, layout.axes).empty())
+    return false;
   const std::size_t n = static_cast<std::size_t>(cloud.width) * cloud.height;
   return cloud.data.size() >= n * cloud.point_step;
 }

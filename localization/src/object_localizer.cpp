@@ -321,6 +321,8 @@ std::string rejection(const ClusterLocalization& c, const LocalizerParams& param
         << std::lround(100.0 * e.below_support) << "% beneath the table, "
         << std::lround(100.0 * e.silhouette_continuation) << "% of its silhouette continues, "
         << std::lround(100.0 * e.supported) << "% of it supported ";
+  if (c.verification.confidence < params.min_confidence && e.out_of_view > 0.0)
+    why << "(" << std::lround(100.0 * e.out_of_view) << "% beyond the image's border) ";
   if (!c.gate_passed)
     why << "thesis gate (" << c.gate_far_points << " points beyond " << params.gate_distance
         << ") ";
@@ -385,18 +387,11 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
 
 /** The scene as a depth image in the camera's frame: an organized cloud's own pixel grid when
  * its points fit a pinhole (0.5 pixel), else the points projected through the given
- * intrinsics or a virtual camera at their spacing. The table's pixels are background. */
+ * intrinsics or a virtual camera (DepthImage::sceneCamera). The table's pixels are background. */
 DepthImage sceneDepthImage(const SceneView& view, const pcl::Indices& table,
                            const LocalizerParams& params) {
-  PinholeIntrinsics k;
-  double rms = std::numeric_limits<double>::infinity();
-  if (params.intrinsics)
-    k = *params.intrinsics;
-  else if (view.width > 0)
-    k = DepthImage::fitIntrinsics(view.points, view.width, view.height, rms);
-  if (!params.intrinsics && !(rms < 0.5))
-    k = DepthImage::virtualCamera(view.points, DepthImage::angularSpacing(view.points));
-  DepthImage image(view.points, k);
+  DepthImage image(view.points, DepthImage::sceneCamera(view.points, view.width, view.height,
+                                                        params.intrinsics));
   image.markBackground(view.points, table);
   image.markExplained(view.points, params.explained_indices);
   if (!view.colours.empty())

@@ -23,6 +23,7 @@ py::dict verificationDict(const pcl::icf::DepthExplanation& v) {
       {"below_support", &E::below_support},
       {"isolated_conflicts", &E::isolated_conflicts},
       {"missing", &E::missing},
+      {"out_of_view", &E::out_of_view},
       {"on_background", &E::on_background},
       {"visible_support", &E::visible_support},
       {"residual", &E::residual},

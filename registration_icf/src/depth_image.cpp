@@ -8,6 +8,7 @@
 #include <pcl_icf_internal/parameter_check.h>
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -217,6 +218,25 @@ float DepthImage::angularSpacing(const std::vector<Eigen::Vector3f>& points, std
   std::nth_element(spacing.begin(), spacing.begin() + static_cast<long>(spacing.size() / 2),
                    spacing.end());
   return spacing[spacing.size() / 2];
+}
+
+float DepthImage::virtualPixelAngle(const std::vector<Eigen::Vector3f>& points,
+                                    std::size_t sample) {
+  return kVirtualPixelPitch * angularSpacing(points, sample);
+}
+
+PinholeIntrinsics DepthImage::sceneCamera(const std::vector<Eigen::Vector3f>& points, int width,
+                                          int height,
+                                          const std::optional<PinholeIntrinsics>& given) {
+  if (given)
+    return *given;
+  if (width > 0) {
+    double rms = std::numeric_limits<double>::infinity();
+    const PinholeIntrinsics k = fitIntrinsics(points, width, height, rms);
+    if (rms < 0.5)
+      return k;
+  }
+  return virtualCamera(points, virtualPixelAngle(points));
 }
 
 }  // namespace icf

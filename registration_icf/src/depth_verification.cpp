@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -238,17 +239,46 @@ void growSurface(Footprint& f, const DepthImage& image, const std::vector<std::s
   }
 }
 
+/** The model pixel where the surface seen at silhouette pixel (\a ue, \a ve) faces the
+ * camera: from it, \a walked pixels inward along (-\a du, -\a dv) / \a steps, past the
+ * faces seen at a grazing angle (cosine below min_view_cosine; at most \a max_walk pixels).
+ * A box's side seen edge-on lines its front face's silhouette; the front face is the surface
+ * that may carry on past it. */
+std::pair<int, int> facingEdgePixel(const ModelDepth& m, int ue, int ve, int du, int dv, int steps,
+                                    int max_walk, const DepthVerificationParams& params,
+                                    int& walked) {
+  walked = 0;
+  for (int in = 0; in <= max_walk; ++in) {
+    const int u = ue - static_cast<int>(std::lround(static_cast<double>(du * in) / steps));
+    const int v = ve - static_cast<int>(std::lround(static_cast<double>(dv * in) / steps));
+    if (!m.covers(u, v))
+      break;
+    walked = in;
+    if (m.cosine[static_cast<std::size_t>(v) * m.width + u] >= params.min_view_cosine)
+      return {u, v};
+  }
+  walked = 0;
+  return {ue, ve};
+}
+
 /** True when the scene at band pixel \a i lies on the model's surface carried on past the
- * silhouette: the model's depth at the nearest silhouette pixel, extrapolated linearly along
- * the way out from the model's own depth two pixels further in, within the support tolerance
- * (noise_sigmas x sigma(z) + size_tolerance x diameter). One surface carrying on passes; an
- * object in contact meets the model at a fold (a can standing on a box) and does not. */
+ * silhouette: the model's depth at the silhouette (at its nearest pixel, or where the surface
+ * there faces the camera: facingEdgePixel), extrapolated linearly along the way out from the
+ * model's own depth two pixels further in, within the support tolerance (noise_sigmas x
+ * sigma(z) + size_tolerance x diameter). One surface carrying on passes (a wall flush with a
+ * box's front face, whose sides are seen edge-on); an object in contact meets the model at a
+ * fold (a can standing on a box) and does not. */
 bool onModelSurfaceExtended(const Footprint& f, const ModelDepth& m, const DepthImage& image,
-                            std::size_t i, float diameter, const DepthVerificationParams& params) {
-  const int ub = f.u(i), vb = f.v(i), ue = f.u(f.nearest[i]), ve = f.v(f.nearest[i]);
-  const int du = ub - ue, dv = vb - ve, steps = std::max(std::abs(du), std::abs(dv));
+                            std::size_t i, float diameter, int max_walk,
+                            const DepthVerificationParams& params) {
+  const int ub = f.u(i), vb = f.v(i);
+  const int du = ub - f.u(f.nearest[i]), dv = vb - f.v(f.nearest[i]);
+  const int steps = std::max(std::abs(du), std::abs(dv));
   if (steps == 0)
     return false;
+  int walked = 0;
+  const auto [ue, ve] = facingEdgePixel(m, f.u(f.nearest[i]), f.v(f.nearest[i]), du, dv, steps,
+                                        max_walk, params, walked);
   const float edge = m.depth[static_cast<std::size_t>(ve) * m.width + ue];
   for (int back = 2; back >= 1; --back) {
     const int ui = ue - static_cast<int>(std::lround(static_cast<double>(du * back) / steps));
@@ -257,7 +287,7 @@ bool onModelSurfaceExtended(const Footprint& f, const ModelDepth& m, const Depth
       continue;
     const float slope =
         (edge - m.depth[static_cast<std::size_t>(vi) * m.width + ui]) / static_cast<float>(back);
-    const float extended = edge + slope * static_cast<float>(steps);
+    const float extended = edge + slope * static_cast<float>(steps + walked);
     return std::abs(image.depth(ub, vb) - extended) <= params.supportTolerance(extended, diameter);
   }
   return false;
@@ -267,13 +297,13 @@ bool onModelSurfaceExtended(const Footprint& f, const ModelDepth& m, const Depth
  * growSurface reached where the scene lies on the model's surface carried on
  * (onModelSurfaceExtended); \a band_pixels: the band's size. */
 double bandReached(const Footprint& f, const ModelDepth& m, const DepthImage& image, float diameter,
-                   const DepthVerificationParams& params, std::size_t& band_pixels) {
+                   int max_walk, const DepthVerificationParams& params, std::size_t& band_pixels) {
   std::size_t reached = 0;
   band_pixels = 0;
   for (std::size_t i = 0; i < f.cls.size(); ++i)
     if (f.cls[i] == Footprint::kBand) {
       ++band_pixels;
-      reached += f.reached[i] && onModelSurfaceExtended(f, m, image, i, diameter, params);
+      reached += f.reached[i] && onModelSurfaceExtended(f, m, image, i, diameter, max_walk, params);
     }
   return band_pixels > 0 ? static_cast<double>(reached) / static_cast<double>(band_pixels) : 0.0;
 }
@@ -350,19 +380,16 @@ int silhouetteMarginPixels(const ModelDepth& m, const PinholeIntrinsics& k, floa
   return std::clamp(static_cast<int>(std::ceil(bounded)), params.border_pixels, 16);
 }
 
-}  // namespace
-
-ModelDepth renderModelDepth(const IcfModel& model, const Eigen::Isometry3f& model_to_camera,
-                            const PinholeIntrinsics& k) {
-  k.validate();
-  ModelDepth out;
-  out.width = k.width;
-  out.height = k.height;
-  out.depth.assign(static_cast<std::size_t>(k.width) * k.height, DepthImage::kEmpty);
-  out.cosine.assign(out.depth.size(), 0.f);
-  out.u_min = k.width;
-  out.v_min = k.height;
+/** The camera-facing faces of \a model at \a model_to_camera projected through \a k (faces
+ * with a vertex behind the camera left out); \a lo, \a hi: their pixels' bounds. */
+std::vector<ProjectedFace> projectFaces(const IcfModel& model,
+                                        const Eigen::Isometry3f& model_to_camera,
+                                        const PinholeIntrinsics& k, Eigen::Vector2f& lo,
+                                        Eigen::Vector2f& hi) {
   const FaceMesh& mesh = model.mesh();
+  std::vector<ProjectedFace> faces;
+  lo = Eigen::Vector2f::Constant(std::numeric_limits<float>::infinity());
+  hi = -lo;
   ProjectedFace f;
   for (std::size_t i = 0; i < mesh.size(); ++i) {
     const Face& face = mesh.faces()[i];
@@ -378,11 +405,89 @@ ModelDepth renderModelDepth(const IcfModel& model, const Eigen::Isometry3f& mode
       in_front = p.z() > 1e-3f;
       f.pixels.emplace_back(k.fx * p.x() / p.z() + k.cx, k.fy * p.y() / p.z() + k.cy);
     }
-    if (in_front)
-      rasterFace(f, k, out);
+    if (!in_front)
+      continue;
+    for (const auto& q : f.pixels) {
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+    faces.push_back(f);
   }
-  out.pixels = static_cast<std::size_t>(std::count_if(
-      out.depth.begin(), out.depth.end(), [](float z) { return z < DepthImage::kEmpty; }));
+  return faces;
+}
+
+/** An empty rendering on \a k's grid. */
+ModelDepth emptyRendering(const PinholeIntrinsics& k) {
+  ModelDepth out;
+  out.width = k.width;
+  out.height = k.height;
+  out.depth.assign(static_cast<std::size_t>(k.width) * k.height, DepthImage::kEmpty);
+  out.cosine.assign(out.depth.size(), 0.f);
+  out.u_min = k.width;
+  out.v_min = k.height;
+  return out;
+}
+
+/** Pixels the grid grows by on one side to hold a projection reaching \a reach pixels past
+ * it, at most ModelDepth::kMaxOutOfViewPad. */
+int padFor(float reach) {
+  if (!(reach > 0.f))
+    return 0;
+  return static_cast<int>(std::ceil(std::min(reach, static_cast<float>(kMaxOutOfViewPad))));
+}
+
+}  // namespace
+
+ModelDepth renderModelDepth(const IcfModel& model, const Eigen::Isometry3f& model_to_camera,
+                            const PinholeIntrinsics& k) {
+  k.validate();
+  Eigen::Vector2f lo, hi;
+  const std::vector<ProjectedFace> faces = projectFaces(model, model_to_camera, k, lo, hi);
+  const int left = padFor(-lo.x()), top = padFor(-lo.y());
+  const int right = padFor(hi.x() - static_cast<float>(k.width - 1));
+  const int bottom = padFor(hi.y() - static_cast<float>(k.height - 1));
+  if (left + top + right + bottom == 0) {
+    ModelDepth out = emptyRendering(k);
+    for (const auto& f : faces)
+      rasterFace(f, k, out);
+    out.pixels = static_cast<std::size_t>(std::count_if(
+        out.depth.begin(), out.depth.end(), [](float z) { return z < DepthImage::kEmpty; }));
+    return out;
+  }
+  // The model reaches past the image: drawn on a grid grown to hold it, the image's window
+  // kept, the cosines of the pixels beyond it counted (out_of_view).
+  PinholeIntrinsics grown = k;
+  grown.cx += static_cast<float>(left);
+  grown.cy += static_cast<float>(top);
+  grown.width += left + right;
+  grown.height += top + bottom;
+  ModelDepth all = emptyRendering(grown);
+  for (ProjectedFace f : faces) {
+    for (auto& q : f.pixels)
+      q += Eigen::Vector2f(static_cast<float>(left), static_cast<float>(top));
+    rasterFace(f, grown, all);
+  }
+  ModelDepth out = emptyRendering(k);
+  for (int v = 0; v < grown.height; ++v)
+    for (int u = 0; u < grown.width; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * grown.width + u;
+      if (!(all.depth[i] < DepthImage::kEmpty))
+        continue;
+      const int ui = u - left, vi = v - top;
+      if (ui < 0 || vi < 0 || ui >= k.width || vi >= k.height) {
+        out.out_of_view_cosines.push_back(all.cosine[i]);
+        continue;
+      }
+      const std::size_t j = static_cast<std::size_t>(vi) * k.width + ui;
+      out.depth[j] = all.depth[i];
+      out.cosine[j] = all.cosine[i];
+      ++out.pixels;
+      out.u_min = std::min(out.u_min, ui);
+      out.v_min = std::min(out.v_min, vi);
+      out.u_max = std::max(out.u_max, ui);
+      out.v_max = std::max(out.v_max, vi);
+      out.nearest = std::min(out.nearest, all.depth[i]);
+    }
   return out;
 }
 
@@ -455,8 +560,11 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
                     below_support = count[kBelowSupport];
   if (supported > 0)
     e.residual = std::sqrt(squared_offsets / static_cast<double>(supported));
+  const auto out_of_view = static_cast<std::size_t>(
+      std::count_if(m.out_of_view_cosines.begin(), m.out_of_view_cosines.end(),
+                    [&](float c) { return c >= params.min_view_cosine; }));
   e.model_pixels = supported + seen_through + below_support + count[kOccluded] +
-                   count[kIsolatedConflict] + count[kMissing] + count[kOnBackground];
+                   count[kIsolatedConflict] + count[kMissing] + count[kOnBackground] + out_of_view;
   if (e.model_pixels == 0)
     return e;
   const double n = static_cast<double>(e.model_pixels);
@@ -466,10 +574,11 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
   e.occluded = static_cast<double>(count[kOccluded]) / n;
   e.isolated_conflicts = static_cast<double>(count[kIsolatedConflict]) / n;
   e.missing = static_cast<double>(count[kMissing]) / n;
+  e.out_of_view = static_cast<double>(out_of_view) / n;
   e.on_background = static_cast<double>(count[kOnBackground]) / n;
   growSurface(footprint, image, seeds, params);
   e.silhouette_continuation =
-      bandReached(footprint, m, image, diameter, params, e.silhouette_pixels);
+      bandReached(footprint, m, image, diameter, margin, params, e.silhouette_pixels);
   std::size_t reached_occluders = 0;
   for (std::size_t i : occluders)
     reached_occluders += footprint.reached[i];

@@ -213,7 +213,7 @@ struct CheckImage {
 };
 
 /** \a points (scene frame) as a virtual camera at \a camera looking at their centroid sees them,
- * at their own angular spacing (DepthImage::virtualCamera): a cluster's own depth image, as the
+ * in pixels of DepthImage::virtualPixelAngle: a cluster's own depth image, as the
  * localizer makes one for an unorganized scene. Looking along the scene's z axis the camera's
  * axes are the scene's. */
 CheckImage clusterDepthImage(const std::vector<Eigen::Vector3f>& points,
@@ -237,7 +237,7 @@ CheckImage clusterDepthImage(const std::vector<Eigen::Vector3f>& points,
   for (std::size_t i = 0; i < points.size(); ++i)
     seen[i] = out.scene_to_camera * points[i];
   out.image =
-      DepthImage(seen, DepthImage::virtualCamera(seen, DepthImage::angularSpacing(seen, 200)));
+      DepthImage(seen, DepthImage::virtualCamera(seen, DepthImage::virtualPixelAngle(seen, 200)));
   return out;
 }
 

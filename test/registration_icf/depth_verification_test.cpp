@@ -229,6 +229,105 @@ TEST(DepthVerification, ExplainedPointsInFrontOccludeWithoutConflict) {
   EXPECT_GT(none.on_background, 0.85);
 }
 
+/** A flat wall at depth \a z filling a 640 x 480 Kinect image: one point per pixel centre. */
+std::vector<Eigen::Vector3f> wallFillingTheImage(float z) {
+  const PinholeIntrinsics k;
+  std::vector<Eigen::Vector3f> points;
+  for (int v = 0; v < k.height; ++v)
+    for (int u = 0; u < k.width; ++u)
+      points.emplace_back((u - k.cx) * z / k.fx, (v - k.cy) * z / k.fy, z);
+  return points;
+}
+
+// Box5 with its front face flush with a wall that fills the image, 0.15 m right and 0.1 m below
+// the optical axis, so that two of its sides are seen edge-on (cosines 0.18 and 0.12, below
+// min_view_cosine) along its silhouette. The depth explains the front face fully; the wall
+// carries the front face's plane on past every edge, so the whole band continues (the oracle:
+// the plane z = 0.8 of both). A box cannot explain a wall: confidence 0. Before the continuation
+// looked past edge-on sides it saw the sides' slope there and found about half the band.
+TEST(DepthVerification, AWallFlushWithABoxFaceContinuesPastEdgeOnSides) {
+  const float z = 0.8f;
+  const std::vector<Eigen::Vector3f> wall = wallFillingTheImage(z);
+  const DepthImage image(wall, PinholeIntrinsics());
+  const synthetic::SyntheticModel box = synthetic::thesisModel("Box5");
+  const IcfModel::ConstPtr model = IcfModel::build(box.mesh);
+  Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
+  pose.translation() = Eigen::Vector3f(0.15f, 0.1f, z - model->mesh().boundsMin().z());
+  const DepthExplanation e = explainDepth(*model, pose, image);
+  EXPECT_GT(e.supported, 0.99);
+  EXPECT_GT(e.silhouette_continuation, 0.9);
+  EXPECT_EQ(e.confidence, 0.0);
+}
+
+// An unorganized cloud sampled on a regular grid: 2 mm points on a 40 x 40 cm plane at 0.8 m
+// tilted 40 degrees about the x axis (a table seen from above, cropped out of its organized
+// scan), so that the points' angular spacing varies over the image. In pixels of their median
+// nearest-neighbour spacing (pitch 1) the nearer, sparser half falls between pixels and leaves
+// rows and columns empty (over 10% of the interior; a model of the same projection gives
+// 23%); sceneCamera's pixels (kVirtualPixelPitch = 1.5 spacings) leave under 0.5%. Interior:
+// per image row, the pixels between the row's first and last point, rows two from either end.
+TEST(DepthImage, AnUnorganizedGridLeavesNoPixelEmpty) {
+  const float tilt = 40.f * static_cast<float>(M_PI) / 180.f;
+  std::vector<Eigen::Vector3f> plane;
+  for (int i = -100; i <= 100; ++i)
+    for (int j = -100; j <= 100; ++j)
+      plane.emplace_back(0.002f * i, 0.002f * j * std::cos(tilt),
+                         0.8f + 0.002f * j * std::sin(tilt));
+  auto emptyShare = [&](const PinholeIntrinsics& k) {
+    const DepthImage image(plane, k);
+    std::vector<int> first(k.height, k.width), last(k.height, -1);
+    for (const auto& p : plane) {
+      const int u = static_cast<int>(std::round(k.fx * p.x() / p.z() + k.cx));
+      const int v = static_cast<int>(std::round(k.fy * p.y() / p.z() + k.cy));
+      first[v] = std::min(first[v], u);
+      last[v] = std::max(last[v], u);
+    }
+    const auto rows = std::count_if(last.begin(), last.end(), [](int u) { return u >= 0; });
+    const int v0 = static_cast<int>(
+        std::find_if(last.begin(), last.end(), [](int u) { return u >= 0; }) - last.begin());
+    int empty = 0, inside = 0;
+    for (int v = v0 + 2; v < v0 + rows - 2; ++v)
+      for (int u = first[v] + 1; u < last[v]; ++u) {
+        ++inside;
+        empty += image.depth(u, v) == DepthImage::kEmpty;
+      }
+    EXPECT_GT(inside, 10000);
+    return static_cast<double>(empty) / std::max(1, inside);
+  };
+  EXPECT_LT(emptyShare(DepthImage::sceneCamera(plane, 0, 0)), 0.005);
+  EXPECT_GT(emptyShare(DepthImage::virtualCamera(plane, DepthImage::angularSpacing(plane))), 0.1);
+}
+
+// A model larger than the scene: a cropped, unorganized cloud of a 2 x 2 cm patch at 0.8 m and
+// Box5 (14 x 9 cm front face) laid face-on over it. The patch's virtual camera sees about 2.5 x
+// 2.5 cm; the rest of the face lies beyond the image's border (out_of_view), so the pose cannot
+// be confirmed: out_of_view at least 1 - (image area / face area) (the oracle: the areas at
+// 0.8 m; the judged pixels in view are fewer still), confidence under 0.1. On a wall that fills
+// the image the same face has nothing out of view.
+TEST(DepthVerification, AModelMostlyBeyondTheImageIsMostlyUnexplained) {
+  const float z = 0.8f;
+  std::vector<Eigen::Vector3f> patch;
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j)
+      patch.emplace_back(-0.01f + 0.02f * i / 19.f, -0.01f + 0.02f * j / 19.f, z);
+  const PinholeIntrinsics k = DepthImage::sceneCamera(patch, 0, 0);
+  const DepthImage image(patch, k);
+  const synthetic::SyntheticModel box = synthetic::thesisModel("Box5");
+  const IcfModel::ConstPtr model = IcfModel::build(box.mesh);
+  const Eigen::Vector3f lo = model->mesh().boundsMin(), hi = model->mesh().boundsMax();
+  Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
+  pose.translation() =
+      Eigen::Vector3f(-0.5f * (lo.x() + hi.x()), -0.5f * (lo.y() + hi.y()), z - lo.z());
+  const DepthExplanation e = explainDepth(*model, pose, image);
+  const double image_area = (k.width * z / k.fx) * (k.height * z / k.fy);
+  const double face_area = static_cast<double>((hi.x() - lo.x()) * (hi.y() - lo.y()));
+  EXPECT_GT(e.out_of_view, 1.0 - image_area / face_area);
+  EXPECT_LT(e.confidence, 0.1);
+  const DepthImage wall(wallFillingTheImage(z), PinholeIntrinsics());
+  const DepthExplanation on_wall = explainDepth(*model, pose, wall);
+  EXPECT_EQ(on_wall.out_of_view, 0.0);
+}
+
 TEST(DepthVerification, InvalidParametersNameTheField) {
   DepthVerificationParams p;
   p.noise_sigmas = 0.f;

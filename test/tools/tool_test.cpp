@@ -356,6 +356,33 @@ TEST_F(Tool, EveryBadInputExitsTwoWithOneLine) {
     expectBadInput(scene + " " + mesh + " --view", "--view needs a display");
 }
 
+// Scenes with nothing to find (issue 12, bad input): a wall that fills a Kinect frame (no
+// table, or the wall taken as the table: either way no object) and a 2 x 2 cm patch (the box
+// is larger than the scene) exit 1 with the reason or 2 with one line, never a pose.
+TEST_F(Tool, ScenesWithNothingToFindGiveAStatusNotAPose) {
+  const std::string mesh = quote(demo("box5.ply"));
+  pcl::PointCloud<pcl::PointXYZ> wall(640, 480);
+  for (int v = 0; v < 480; ++v)
+    for (int u = 0; u < 640; ++u)
+      wall.at(u, v) = pcl::PointXYZ((u - 319.5f) / 525.f, (v - 239.5f) / 525.f, 1.f);
+  pcl::io::savePCDFileBinary(path("wall.pcd"), wall);
+  for (const std::string& options : {std::string(), std::string(" --no-segment")}) {
+    SCOPED_TRACE(options);
+    const Result r = run(quote(path("wall.pcd")) + " " + mesh + options);
+    EXPECT_EQ(r.code, 1) << r.out << r.err;
+    EXPECT_NE(r.out.find("no object found"), std::string::npos) << r.out;
+  }
+  pcl::PointCloud<pcl::PointXYZ> patch;
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j)
+      patch.push_back(pcl::PointXYZ(-0.01f + 0.02f * i / 19.f, -0.01f + 0.02f * j / 19.f, 0.8f));
+  pcl::io::savePCDFileBinary(path("patch.pcd"), patch);
+  expectBadInput(quote(path("patch.pcd")) + " " + mesh, "TooFewPoints");
+  const Result r = run(quote(path("patch.pcd")) + " " + mesh + " --no-segment");
+  EXPECT_EQ(r.code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("beyond the image's border"), std::string::npos) << r.out;
+}
+
 TEST_F(Tool, NeverOverwritesInputsAndOutputsOnlyWithForce) {
   const std::string cluster = quote(demo("box5_cluster.pcd"));
   const std::string mesh = quote(demo("box5.ply"));

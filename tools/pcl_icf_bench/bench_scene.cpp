@@ -36,11 +36,12 @@ std::string verificationTerms(const localization::ClusterLocalization& c) {
   char text[512];
   std::snprintf(text, sizeof(text),
                 "pixels=%zu supported=%.4f seen_through=%.4f occluded=%.4f below_support=%.4f "
-                "isolated=%.4f missing=%.4f on_background=%.4f visible_support=%.4f "
+                "isolated=%.4f missing=%.4f out_of_view=%.4f on_background=%.4f "
+                "visible_support=%.4f "
                 "continuation=%.4f band=%zu occluder_continuation=%.4f residual=%.3f "
                 "turned=%d alternatives=%zu colour=%.4f",
                 e.model_pixels, e.supported, e.seen_through, e.occluded, e.below_support,
-                e.isolated_conflicts, e.missing, e.on_background, e.visible_support,
+                e.isolated_conflicts, e.missing, e.out_of_view, e.on_background, e.visible_support,
                 e.silhouette_continuation, e.silhouette_pixels, e.occluder_continuation, e.residual,
                 c.turned ? 1 : 0, c.alternatives.size(),
                 c.colour_similarity ? *c.colour_similarity : -1.0);

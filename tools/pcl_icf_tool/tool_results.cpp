@@ -76,6 +76,7 @@ json clusterJson(const localization::ClusterLocalization& c, int index, const Sc
                        {"below_support", c.verification.below_support},
                        {"isolated_conflicts", c.verification.isolated_conflicts},
                        {"missing", c.verification.missing},
+                       {"out_of_view", c.verification.out_of_view},
                        {"on_background", c.verification.on_background},
                        {"visible_support", c.verification.visible_support},
                        {"residual", c.verification.residual},

@@ -115,15 +115,7 @@ DepthImage ObjectTracker::depthImage(const FrameView& view, std::vector<bool>& t
   const auto& lp = params_.localizer;
   if (!intrinsics_ || intrinsics_->width != view.width || intrinsics_->height != view.height ||
       view.width == 0) {
-    PinholeIntrinsics k;
-    double rms = std::numeric_limits<double>::infinity();
-    if (lp.intrinsics)
-      k = *lp.intrinsics;
-    else if (view.width > 0)
-      k = DepthImage::fitIntrinsics(view.points, view.width, view.height, rms);
-    if (!lp.intrinsics && !(rms < 0.5))
-      k = DepthImage::virtualCamera(view.points, DepthImage::angularSpacing(view.points));
-    intrinsics_ = k;
+    intrinsics_ = DepthImage::sceneCamera(view.points, view.width, view.height, lp.intrinsics);
   }
   DepthImage image(view.points, *intrinsics_);
   table.assign(view.points.size(), false);

@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <vector>
 
 namespace pcl {
@@ -78,6 +79,25 @@ class DepthImage {
    * on a deterministic subset of at most \a sample points. */
   static float angularSpacing(const std::vector<Eigen::Vector3f>& points,
                               std::size_t sample = 2000);
+
+  /** \brief Pixel angle of an unorganized cloud's virtual camera: kVirtualPixelPitch x the
+   * points' angular spacing (angularSpacing on at most \a sample points). */
+  static float virtualPixelAngle(const std::vector<Eigen::Vector3f>& points,
+                                 std::size_t sample = 2000);
+  /** Pixels of a virtual camera per point spacing. At 1 a regularly sampled surface aliases:
+   * where its points fall on pixel borders, whole rows and columns stay empty, and an empty
+   * pixel stops the verification's surface growth (a 40 cm wall seen at its own grid pitch
+   * had half the silhouette band around a box posed on it unreached, and which half depended
+   * on the compiler's rounding). 1.5 leaves no pixel of a regular grid empty. */
+  static constexpr float kVirtualPixelPitch = 1.5f;
+
+  /** \brief The camera an image of a scene's \a points is made with: \a given when set; else,
+   * for an organized cloud (\a width x \a height, width 0: unorganized), its own pinhole
+   * (fitIntrinsics) when that fits within half a pixel; else a virtual camera at the origin
+   * with pixels of virtualPixelAngle. */
+  static PinholeIntrinsics sceneCamera(const std::vector<Eigen::Vector3f>& points, int width,
+                                       int height,
+                                       const std::optional<PinholeIntrinsics>& given = {});
 
   const PinholeIntrinsics& intrinsics() const { return k_; }
   int width() const { return k_.width; }

@@ -80,6 +80,10 @@ struct DepthVerificationParams {
   void validate() const;
 };
 
+/** At most this many pixels beyond an image's border are drawn to count a model's part out of
+ * view (ModelDepth::out_of_view_cosines): 640 holds a model twice the width of a VGA image. */
+constexpr int kMaxOutOfViewPad = 640;
+
 /** \brief The posed model as the camera would see it: per pixel the depth of its nearest
  * camera-facing surface, the cosine between the ray and that surface's normal (0 where the
  * model is absent). Same size and intrinsics as the depth image it is rendered for. */
@@ -91,6 +95,10 @@ struct ModelDepth {
   float nearest = DepthImage::kEmpty;  ///< smallest depth of the covered pixels
   /** Bounding box of the covered pixels (empty when u_min > u_max). */
   int u_min = 0, v_min = 0, u_max = -1, v_max = -1;
+  /** Ray-normal cosines of the model's pixels beyond the image's border (the model drawn on a
+   * grid grown by up to kMaxOutOfViewPad pixels a side to hold it): a part of the model the
+   * image cannot show. Empty when the model lies inside the image. */
+  std::vector<float> out_of_view_cosines;
 
   bool covers(int u, int v) const {
     return u >= 0 && v >= 0 && u < width && v < height &&
@@ -107,7 +115,7 @@ ModelDepth renderModelDepth(const IcfModel& model, const Eigen::Isometry3f& mode
  * model's pixels away from its silhouette (border_pixels) on faces not seen at a grazing
  * angle. */
 struct DepthExplanation {
-  std::size_t model_pixels = 0;  ///< judged model pixels
+  std::size_t model_pixels = 0;  ///< judged model pixels, out_of_view ones included
   /** Measured depth on the model surface (within the noise-scaled tolerance): explained. */
   double supported = 0.0;
   /** Measured depth behind the model surface: the camera saw through where the model would
@@ -126,6 +134,10 @@ struct DepthExplanation {
   double isolated_conflicts = 0.0;
   /** No measurement (the sensor's holes, black or shiny surfaces): neither for nor against. */
   double missing = 0.0;
+  /** The model beyond the image's border (ModelDepth::out_of_view_cosines, faces not seen at a
+   * grazing angle): nothing measured there either, but a model mostly out of view is mostly
+   * unexplained (a cropped cloud of a 2 cm patch cannot confirm a 14 cm box laid on it). */
+  double out_of_view = 0.0;
   /** Measured depth on the model surface, but the measurement belongs to the background (the
    * table): the table explains it, so it is no evidence for the model (a box laid flat into
    * the table's surface would otherwise be "supported" everywhere). */

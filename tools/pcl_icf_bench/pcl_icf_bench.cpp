@@ -16,6 +16,10 @@
 //                          voxel_size, normal_radius, feature_radius, max_iterations,
 //                          correspondence_randomness, similarity_threshold,
 //                          max_correspondence_distance, inlier_fraction, model_samples, seed
+//     --icf K=V,...        override IcfParams fields for the icf-* methods and icf-scene, for
+//                          calibration curves: rotations, keep, subsample, prescreen_points,
+//                          prescreen_share, exact_candidates, candidate_points, coarse_points,
+//                          fine_iterations, refinement_max_points
 //     --repeat N           run every method N times per case and report the median time
 //                          (the poses are identical: every method is seeded); icf-thesis
 //                          runs once. For small suites on a busy machine.
@@ -67,6 +71,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
@@ -78,6 +83,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -127,6 +133,8 @@ struct Options {
    * report its best hypothesis with its confidence, for calibration curves. */
   std::optional<double> scene_min_confidence;
   pcl::icf::SacParams sac;
+  /** --icf's fields over IcfParams' defaults, applied in order (applyIcfOverrides). */
+  std::vector<std::pair<std::string, double>> icf_overrides;
   std::string command_line = "pcl_icf_bench";
 };
 
@@ -134,7 +142,7 @@ int usage(const char* program) {
   std::fprintf(stderr,
                "Usage: %s [--out DIR] [--plots DIR] [--name NAME] [--methods A,B]\n"
                "          [--thesis-cases N] [--limit N] [--threads N] [--ia-iterations N]\n"
-               "          [--sac K=V,...] [--repeat N] [--no-plots]\n"
+               "          [--sac K=V,...] [--icf K=V,...] [--repeat N] [--no-plots]\n"
                "          [--scene-min-confidence C] [--ppf-sampling S] MANIFEST...\n"
                "Methods (default: all but icf-scene):",
                program);
@@ -144,12 +152,17 @@ int usage(const char* program) {
   return 2;
 }
 
-void applySacOverride(pcl::icf::SacParams& p, const std::string& kv) {
+/** KEY and VALUE of \a option's KEY=VALUE \a kv. */
+std::pair<std::string, double> keyValue(const std::string& option, const std::string& kv) {
   const auto eq = kv.find('=');
   if (eq == std::string::npos)
-    throw std::invalid_argument("--sac expects KEY=VALUE, got " + kv);
+    throw std::invalid_argument(option + " expects KEY=VALUE, got " + kv);
   const std::string key = kv.substr(0, eq);
-  const double v = pcl_icf_tools::parseNumber("--sac " + key, kv.substr(eq + 1));
+  return {key, pcl_icf_tools::parseNumber(option + " " + key, kv.substr(eq + 1))};
+}
+
+void applySacOverride(pcl::icf::SacParams& p, const std::string& kv) {
+  const auto [key, v] = keyValue("--sac", kv);
   if (key == "voxel_size")
     p.voxel_size = static_cast<float>(v);
   else if (key == "normal_radius")
@@ -174,6 +187,41 @@ void applySacOverride(pcl::icf::SacParams& p, const std::string& kv) {
     p.seed = static_cast<std::uint64_t>(v);
   else
     throw std::invalid_argument("--sac: unknown field " + key);
+}
+
+/** Sets \a p's field \a key (the names --icf lists) to \a v; std::invalid_argument for another
+ * name. The ranges are IcfParams::validate's. */
+void applyIcfOverride(pcl::icf::IcfParams& p, const std::string& key, double v) {
+  const std::map<std::string, std::size_t*> counts = {
+      {"rotations", &p.global.rotations},
+      {"keep", &p.global.keep},
+      {"subsample", &p.global.subsample},
+      {"prescreen_points", &p.global.prescreen_points},
+      {"exact_candidates", &p.exact_candidates},
+      {"candidate_points", &p.candidate_points},
+      {"coarse_points", &p.coarse_points},
+      {"refinement_max_points", &p.refinement.max_points}};
+  if (const auto c = counts.find(key); c != counts.end()) {
+    if (!(v >= 0.0 && v <= 1e7 && v == std::floor(v)))
+      throw std::invalid_argument("--icf " + key + " must be a whole number in [0, 1e7]");
+    *c->second = static_cast<std::size_t>(v);
+  } else if (key == "prescreen_share")
+    p.global.prescreen_share = static_cast<float>(v);
+  else if (key == "fine_iterations")
+    p.fine_iterations = static_cast<int>(v);
+  else
+    throw std::invalid_argument("--icf: unknown field " + key);
+}
+
+/** IcfParams' defaults with \a o's --icf fields and threads; validated. */
+pcl::icf::IcfParams icfParams(const Options& o) {
+  pcl::icf::IcfParams p;
+  for (const auto& [key, value] : o.icf_overrides)
+    applyIcfOverride(p, key, value);
+  p.threads = o.threads;
+  p.sac = o.sac;
+  p.validate();
+  return p;
 }
 
 /** The options; std::invalid_argument on a bad one. False for --help. */
@@ -208,6 +256,9 @@ bool parseOptions(int argc, char** argv, Options& o) {
     } else if (arg == "--sac") {
       for (const auto& kv : splitComma(args.value(arg)))
         applySacOverride(o.sac, kv);
+    } else if (arg == "--icf") {
+      for (const auto& kv : splitComma(args.value(arg)))
+        o.icf_overrides.push_back(keyValue(arg, kv));
     } else if (arg == "--ppf-sampling")
       o.ppf_sampling = parseNumber(arg, args.value(arg));
     else if (arg == "--scene-min-confidence")
@@ -231,6 +282,7 @@ bool parseOptions(int argc, char** argv, Options& o) {
   if (!(o.ppf_sampling >= 0.01 && o.ppf_sampling <= 0.5))
     throw std::invalid_argument("--ppf-sampling must lie in [0.01, 0.5]");
   o.sac.validate();
+  icfParams(o);  // the --icf fields' names and ranges, before any case runs
   if (o.plot_dir.empty())
     o.plot_dir = o.out_dir;
   if (o.name.empty())
@@ -265,8 +317,7 @@ struct CaseInput {
 pcl::icf::localization::LocalizerParams sceneParams(const Options& o) {
   pcl::icf::localization::LocalizerParams p;
   p.threads = o.threads;
-  p.icf.threads = o.threads;
-  p.icf.sac = o.sac;
+  p.icf = icfParams(o);
   if (o.scene_min_confidence)
     p.min_confidence = *o.scene_min_confidence;
   return p;
@@ -280,9 +331,7 @@ MethodRun runMethod(const std::string& m, const CaseInput& in, const PreparedMod
     return runScene(in.scene, model, sceneParams(o));
   const CloudXYZ::Ptr& cluster = in.cluster;
   if (m.rfind("icf-", 0) == 0) {
-    pcl::icf::IcfParams p;
-    p.threads = o.threads;
-    p.sac = o.sac;
+    pcl::icf::IcfParams p = icfParams(o);
     p.strategy =
         m == "icf-thesis" ? pcl::icf::SearchStrategy::Thesis : pcl::icf::SearchStrategy::Fast;
     p.fallback = m == "icf-fast+sac" ? pcl::icf::FallbackPolicy::Auto

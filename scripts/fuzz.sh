@@ -17,7 +17,8 @@ FUZZ_SECONDS=${FUZZ_SECONDS:-60}
 FUZZ_JOBS=${FUZZ_JOBS:-1}
 ALL=(fuzz_scene_pcd fuzz_scene_ply fuzz_scene_xyz fuzz_mesh_ply fuzz_mesh_obj fuzz_mesh_stl
      fuzz_mesh_vtk fuzz_pipeline)
-TARGETS=("${@:-${ALL[@]}}")
+# Each target once: two runs of one target would share its log and result file.
+mapfile -t TARGETS < <(printf '%s\n' "${@:-${ALL[@]}}" | awk '!seen[$0]++')
 
 start=$(date +%s)
 nice cmake --preset fuzz >/dev/null
@@ -45,7 +46,8 @@ fuzzOne() {
     args+=(-fork="$FUZZ_JOBS" -ignore_crashes=0)
   fi
   if nice "build/fuzz/fuzz/$t" "${args[@]}" "$work" "fuzz/corpus/$t" >"$log" 2>&1; then
-    { echo "== fuzz: $t for ${FUZZ_SECONDS} s"
+    { echo "PASSED"
+      echo "== fuzz: $t for ${FUZZ_SECONDS} s"
       grep -E '^stat::number_of_executed_units|^#[0-9]+[[:space:]]+DONE' "$log" | tail -2 || true
     } >"$result"
   else
@@ -58,6 +60,8 @@ fuzzOne() {
 # FUZZ_PARALLEL targets at a time (default: one per core; each target is one process), each
 # for the full FUZZ_SECONDS: on 2 cores the 8 targets take 4 minutes instead of 8.
 FUZZ_PARALLEL=${FUZZ_PARALLEL:-$(nproc)}
+# A stopped script stops its fuzzers too.
+trap 'jobs -p | xargs -r kill 2>/dev/null' EXIT
 running=0
 for t in "${TARGETS[@]}"; do
   rm -f "build/fuzz/$t.result"
@@ -69,13 +73,17 @@ for t in "${TARGETS[@]}"; do
   fi
 done
 wait
+# A target passed only when its result says so in its first line; anything else (a failure,
+# no result, a result cut short) fails it.
 failed=()
 for t in "${TARGETS[@]}"; do
-  if grep -q "FAILED" "build/fuzz/$t.result" 2>/dev/null || [ ! -f "build/fuzz/$t.result" ]; then
-    cat "build/fuzz/$t.result" >&2 2>/dev/null || echo "fuzz: $t left no result" >&2
-    failed+=("$t")
+  result=build/fuzz/$t.result
+  if [ "$(head -1 "$result" 2>/dev/null)" = PASSED ]; then
+    tail -n +2 "$result"
   else
-    cat "build/fuzz/$t.result"
+    cat "$result" >&2 2>/dev/null || true
+    echo "fuzz: $t did not pass" >&2
+    failed+=("$t")
   fi
 done
 echo "== fuzz: done in $(( $(date +%s) - start )) s"

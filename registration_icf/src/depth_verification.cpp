@@ -428,66 +428,62 @@ ModelDepth emptyRendering(const PinholeIntrinsics& k) {
   return out;
 }
 
-/** Pixels the grid grows by on one side to hold a projection reaching \a reach pixels past
- * it, at most ModelDepth::kMaxOutOfViewPad. */
-int padFor(float reach) {
-  if (!(reach > 0.f))
-    return 0;
-  return static_cast<int>(std::ceil(std::min(reach, static_cast<float>(kMaxOutOfViewPad))));
+/** The ray-normal cosines of the pixels that \a faces (projected through \a k, pixel bounds
+ * \a lo, \a hi) cover beyond \a k's image: drawn on a grid over their projection only, at most
+ * kMaxOutOfViewPad pixels past each border. Empty when no pixel centre lies outside. */
+std::vector<float> beyondTheImage(const std::vector<ProjectedFace>& faces,
+                                  const PinholeIntrinsics& k, const Eigen::Vector2f& lo,
+                                  const Eigen::Vector2f& hi) {
+  const float pad = static_cast<float>(kMaxOutOfViewPad);
+  const float w = static_cast<float>(k.width), h = static_cast<float>(k.height);
+  if (!(lo.allFinite() && hi.allFinite()) ||
+      (lo.x() > -1.f && lo.y() > -1.f && hi.x() < w && hi.y() < h))
+    return {};
+  // The grid's first pixel centre and size, in the image's pixel coordinates.
+  const int u0 = static_cast<int>(std::ceil(std::max(lo.x(), -pad)));
+  const int v0 = static_cast<int>(std::ceil(std::max(lo.y(), -pad)));
+  const int u1 = static_cast<int>(std::floor(std::min(hi.x(), w - 1.f + pad)));
+  const int v1 = static_cast<int>(std::floor(std::min(hi.y(), h - 1.f + pad)));
+  if (u1 < u0 || v1 < v0)
+    return {};
+  PinholeIntrinsics local = k;
+  local.cx -= static_cast<float>(u0);
+  local.cy -= static_cast<float>(v0);
+  local.width = u1 - u0 + 1;
+  local.height = v1 - v0 + 1;
+  ModelDepth grid = emptyRendering(local);
+  const Eigen::Vector2f shift(static_cast<float>(u0), static_cast<float>(v0));
+  for (ProjectedFace f : faces) {
+    for (auto& q : f.pixels)
+      q -= shift;
+    rasterFace(f, local, grid);
+  }
+  std::vector<float> cosines;
+  for (int v = 0; v < local.height; ++v)
+    for (int u = 0; u < local.width; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * local.width + u;
+      const int ui = u + u0, vi = v + v0;
+      if (grid.depth[i] < DepthImage::kEmpty &&
+          (ui < 0 || vi < 0 || ui >= k.width || vi >= k.height))
+        cosines.push_back(grid.cosine[i]);
+    }
+  return cosines;
 }
 
 }  // namespace
 
 ModelDepth renderModelDepth(const IcfModel& model, const Eigen::Isometry3f& model_to_camera,
-                            const PinholeIntrinsics& k) {
+                            const PinholeIntrinsics& k, bool out_of_view) {
   k.validate();
   Eigen::Vector2f lo, hi;
   const std::vector<ProjectedFace> faces = projectFaces(model, model_to_camera, k, lo, hi);
-  const int left = padFor(-lo.x()), top = padFor(-lo.y());
-  const int right = padFor(hi.x() - static_cast<float>(k.width - 1));
-  const int bottom = padFor(hi.y() - static_cast<float>(k.height - 1));
-  if (left + top + right + bottom == 0) {
-    ModelDepth out = emptyRendering(k);
-    for (const auto& f : faces)
-      rasterFace(f, k, out);
-    out.pixels = static_cast<std::size_t>(std::count_if(
-        out.depth.begin(), out.depth.end(), [](float z) { return z < DepthImage::kEmpty; }));
-    return out;
-  }
-  // The model reaches past the image: drawn on a grid grown to hold it, the image's window
-  // kept, the cosines of the pixels beyond it counted (out_of_view).
-  PinholeIntrinsics grown = k;
-  grown.cx += static_cast<float>(left);
-  grown.cy += static_cast<float>(top);
-  grown.width += left + right;
-  grown.height += top + bottom;
-  ModelDepth all = emptyRendering(grown);
-  for (ProjectedFace f : faces) {
-    for (auto& q : f.pixels)
-      q += Eigen::Vector2f(static_cast<float>(left), static_cast<float>(top));
-    rasterFace(f, grown, all);
-  }
   ModelDepth out = emptyRendering(k);
-  for (int v = 0; v < grown.height; ++v)
-    for (int u = 0; u < grown.width; ++u) {
-      const std::size_t i = static_cast<std::size_t>(v) * grown.width + u;
-      if (!(all.depth[i] < DepthImage::kEmpty))
-        continue;
-      const int ui = u - left, vi = v - top;
-      if (ui < 0 || vi < 0 || ui >= k.width || vi >= k.height) {
-        out.out_of_view_cosines.push_back(all.cosine[i]);
-        continue;
-      }
-      const std::size_t j = static_cast<std::size_t>(vi) * k.width + ui;
-      out.depth[j] = all.depth[i];
-      out.cosine[j] = all.cosine[i];
-      ++out.pixels;
-      out.u_min = std::min(out.u_min, ui);
-      out.v_min = std::min(out.v_min, vi);
-      out.u_max = std::max(out.u_max, ui);
-      out.v_max = std::max(out.v_max, vi);
-      out.nearest = std::min(out.nearest, all.depth[i]);
-    }
+  for (const auto& f : faces)
+    rasterFace(f, k, out);
+  out.pixels = static_cast<std::size_t>(std::count_if(
+      out.depth.begin(), out.depth.end(), [](float z) { return z < DepthImage::kEmpty; }));
+  if (out_of_view)
+    out.out_of_view_cosines = beyondTheImage(faces, k, lo, hi);
   return out;
 }
 
@@ -507,7 +503,7 @@ std::vector<int> pointsExplainedBy(const IcfModel& model, const Eigen::Isometry3
   std::vector<int> explained;
   if (image.empty())
     return explained;
-  const ModelDepth m = renderModelDepth(model, model_to_camera, image.intrinsics());
+  const ModelDepth m = renderModelDepth(model, model_to_camera, image.intrinsics(), false);
   const float diameter = 2.f * model.radius();
   for (std::size_t i = 0; i < points.size(); ++i) {
     int u = 0, v = 0;

@@ -111,6 +111,8 @@ void IcfParams::validate() const {
   const internal::ParameterCheck fail("IcfParams");
   if (exact_candidates < 1)
     fail("exact_candidates", exact_candidates, "must be at least 1");
+  if (candidate_points < 3)
+    fail("candidate_points", candidate_points, "must be at least 3 (a refinement needs points)");
   if (fine_iterations < 1 || fine_iterations > 100000)
     fail("fine_iterations", fine_iterations, "must lie in [1, 100000]");
   if (threads < 0 || threads > 1024)
@@ -246,8 +248,10 @@ CheckImage clusterDepthImage(const std::vector<Eigen::Vector3f>& points,
 double seenThrough(const IcfModel& model, const Eigen::Isometry3f& scene_to_model,
                    const DepthImage& image, const Eigen::Isometry3f& scene_to_camera,
                    const DepthVerificationParams& params) {
-  const DepthExplanation e =
-      explainDepth(model, scene_to_camera * scene_to_model.inverse(Eigen::Isometry), image, params);
+  // The model beyond the image is not drawn: the share computed here leaves it out anyway.
+  const ModelDepth rendered = renderModelDepth(
+      model, scene_to_camera * scene_to_model.inverse(Eigen::Isometry), image.intrinsics(), false);
+  const DepthExplanation e = explainDepth(rendered, image, 2.f * model.radius(), params);
   const double conflicts = e.seen_through + e.below_support;
   return conflicts > 0.0 ? conflicts / (e.supported + conflicts) : 0.0;
 }

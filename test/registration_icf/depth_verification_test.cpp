@@ -240,11 +240,12 @@ std::vector<Eigen::Vector3f> wallFillingTheImage(float z) {
 }
 
 // Box5 with its front face flush with a wall that fills the image, 0.15 m right and 0.1 m below
-// the optical axis, so that two of its sides are seen edge-on (cosines 0.18 and 0.12, below
-// min_view_cosine) along its silhouette. The depth explains the front face fully; the wall
-// carries the front face's plane on past every edge, so the whole band continues (the oracle:
-// the plane z = 0.8 of both). A box cannot explain a wall: confidence 0. Before the continuation
-// looked past edge-on sides it saw the sides' slope there and found about half the band.
+// the optical axis, so that two of its sides are seen edge-on (cosines about 0.1 and 0.07,
+// below min_view_cosine; 2-3 pixels wide) along its silhouette. The depth explains the front face
+// fully; the wall carries the front face's plane on past every edge, so the whole band continues
+// (the oracle: the plane z = 0.8 of both). A box cannot explain a wall: confidence 0. Before the
+// continuation looked past edge-on sides it saw the sides' slope there and found about half the
+// band.
 TEST(DepthVerification, AWallFlushWithABoxFaceContinuesPastEdgeOnSides) {
   const float z = 0.8f;
   const std::vector<Eigen::Vector3f> wall = wallFillingTheImage(z);
@@ -326,6 +327,55 @@ TEST(DepthVerification, AModelMostlyBeyondTheImageIsMostlyUnexplained) {
   const DepthImage wall(wallFillingTheImage(z), PinholeIntrinsics());
   const DepthExplanation on_wall = explainDepth(*model, pose, wall);
   EXPECT_EQ(on_wall.out_of_view, 0.0);
+}
+
+// The model's part beyond the image against a wider camera that sees all of it: Box5 near the
+// right edge of a 640 x 480 image, and the same camera grown by 200 pixels on every side (the
+// principal point moved with it, so pixel (u, v) is pixel (u + 200, v + 200) of the wide one).
+// The window of the wide rendering is the narrow one (depth to float rounding, coverage but
+// for pixel centres within rounding of an edge), and the narrow one's out-of-view pixels are
+// the wide one's covered pixels outside the window (the same tolerance).
+TEST(DepthVerification, TheModelBeyondTheImageIsWhatAWiderCameraSees) {
+  const synthetic::SyntheticModel box = synthetic::thesisModel("Box5");
+  const IcfModel::ConstPtr model = IcfModel::build(box.mesh);
+  Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
+  pose.linear() = (Eigen::AngleAxisf(0.5f, Eigen::Vector3f::UnitX()) *
+                   Eigen::AngleAxisf(-0.4f, Eigen::Vector3f::UnitY()))
+                      .toRotationMatrix();
+  pose.translation() = Eigen::Vector3f(0.5f, 0.05f, 0.9f);  // about 610 px: across the edge
+  const PinholeIntrinsics narrow;
+  PinholeIntrinsics wide = narrow;
+  const int pad = 200;
+  wide.cx += pad;
+  wide.cy += pad;
+  wide.width += 2 * pad;
+  wide.height += 2 * pad;
+  const ModelDepth n = renderModelDepth(*model, pose, narrow);
+  const ModelDepth w = renderModelDepth(*model, pose, wide);
+  ASSERT_TRUE(w.out_of_view_cosines.empty());
+  std::size_t outside = 0, differ = 0, inside = 0;
+  for (int v = 0; v < wide.height; ++v)
+    for (int u = 0; u < wide.width; ++u) {
+      const int un = u - pad, vn = v - pad;
+      const bool in_window = un >= 0 && vn >= 0 && un < narrow.width && vn < narrow.height;
+      if (!in_window) {
+        outside += w.covers(u, v);
+        continue;
+      }
+      inside += w.covers(u, v);
+      if (w.covers(u, v) != n.covers(un, vn)) {
+        ++differ;
+      } else if (w.covers(u, v)) {
+        EXPECT_NEAR(w.depth[static_cast<std::size_t>(v) * w.width + u],
+                    n.depth[static_cast<std::size_t>(vn) * n.width + un], 1e-5f);
+      }
+    }
+  ASSERT_GT(outside, 500u) << "the pose must put a good part of the box beyond the edge";
+  ASSERT_GT(inside, 500u);
+  EXPECT_LE(differ, inside / 100);
+  const double out = static_cast<double>(n.out_of_view_cosines.size());
+  EXPECT_NEAR(out, static_cast<double>(outside), 0.01 * static_cast<double>(outside));
+  EXPECT_TRUE(renderModelDepth(*model, pose, narrow, false).out_of_view_cosines.empty());
 }
 
 TEST(DepthVerification, InvalidParametersNameTheField) {

@@ -207,9 +207,11 @@ void applyIcfOverride(pcl::icf::IcfParams& p, const std::string& key, double v) 
     *c->second = static_cast<std::size_t>(v);
   } else if (key == "prescreen_share")
     p.global.prescreen_share = static_cast<float>(v);
-  else if (key == "fine_iterations")
+  else if (key == "fine_iterations") {
+    if (!(v >= 1.0 && v <= 100000.0 && v == std::floor(v)))
+      throw std::invalid_argument("--icf fine_iterations must be a whole number in [1, 100000]");
     p.fine_iterations = static_cast<int>(v);
-  else
+  } else
     throw std::invalid_argument("--icf: unknown field " + key);
 }
 

@@ -95,9 +95,10 @@ struct ModelDepth {
   float nearest = DepthImage::kEmpty;  ///< smallest depth of the covered pixels
   /** Bounding box of the covered pixels (empty when u_min > u_max). */
   int u_min = 0, v_min = 0, u_max = -1, v_max = -1;
-  /** Ray-normal cosines of the model's pixels beyond the image's border (the model drawn on a
-   * grid grown by up to kMaxOutOfViewPad pixels a side to hold it): a part of the model the
-   * image cannot show. Empty when the model lies inside the image. */
+  /** Ray-normal cosines of the model's pixels beyond the image's border (drawn on a grid over
+   * the model's projection, at most kMaxOutOfViewPad pixels past each border): a part of the
+   * model the image cannot show. Empty when the model lies inside the image, or when
+   * renderModelDepth was asked not to count them. */
   std::vector<float> out_of_view_cosines;
 
   bool covers(int u, int v) const {
@@ -107,9 +108,12 @@ struct ModelDepth {
 };
 
 /** \brief Renders \a model at \a model_to_camera into \a image's pixel grid with a z-buffer:
- * every camera-facing face, exact depth where the pixel's ray meets the face's plane. */
+ * every camera-facing face, exact depth where the pixel's ray meets the face's plane. With
+ * \a out_of_view, also the cosines of the model's pixels beyond the image's border
+ * (ModelDepth::out_of_view_cosines; explainDepth's out_of_view); callers that read only the
+ * image's pixels leave it false and pay nothing for a model crossing the border. */
 ModelDepth renderModelDepth(const IcfModel& model, const Eigen::Isometry3f& model_to_camera,
-                            const PinholeIntrinsics& image);
+                            const PinholeIntrinsics& image, bool out_of_view = true);
 
 /** \brief How a posed model explains the depth image. Shares are of the judged pixels: the
  * model's pixels away from its silhouette (border_pixels) on faces not seen at a grazing

@@ -314,15 +314,16 @@ void resolveTurns(ClusterLocalization& c, const SceneView& view, const DepthImag
 std::string rejection(const ClusterLocalization& c, const LocalizerParams& params) {
   std::ostringstream why;
   const DepthExplanation& e = c.verification;
-  if (c.verification.confidence < params.min_confidence)
+  if (c.verification.confidence < params.min_confidence) {
     why << "confidence " << e.confidence << " < " << params.min_confidence << ": explains "
         << std::lround(100.0 * e.visible_support) << "% of the visible model, "
         << std::lround(100.0 * e.seen_through) << "% seen through, "
         << std::lround(100.0 * e.below_support) << "% beneath the table, "
         << std::lround(100.0 * e.silhouette_continuation) << "% of its silhouette continues, "
         << std::lround(100.0 * e.supported) << "% of it supported ";
-  if (c.verification.confidence < params.min_confidence && e.out_of_view > 0.0)
-    why << "(" << std::lround(100.0 * e.out_of_view) << "% beyond the image's border) ";
+    if (e.out_of_view > 0.0)
+      why << "(" << std::lround(100.0 * e.out_of_view) << "% beyond the image's border) ";
+  }
   if (!c.gate_passed)
     why << "thesis gate (" << c.gate_far_points << " points beyond " << params.gate_distance
         << ") ";

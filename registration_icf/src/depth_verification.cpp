@@ -239,6 +239,13 @@ void growSurface(Footprint& f, const DepthImage& image, const std::vector<std::s
   }
 }
 
+/** The pixel \a k steps from (\a u, \a v) against the direction (\a du, \a dv) / \a steps
+ * (inward from the silhouette, when that direction points out), rounded to the nearest pixel. */
+std::pair<int, int> stepInward(int u, int v, int du, int dv, int steps, int k) {
+  return {u - static_cast<int>(std::lround(static_cast<double>(du * k) / steps)),
+          v - static_cast<int>(std::lround(static_cast<double>(dv * k) / steps))};
+}
+
 /** The model pixel where the surface seen at silhouette pixel (\a ue, \a ve) faces the
  * camera: from it, \a walked pixels inward along (-\a du, -\a dv) / \a steps, past the
  * faces seen at a grazing angle (cosine below min_view_cosine; at most \a max_walk pixels).
@@ -249,8 +256,7 @@ std::pair<int, int> facingEdgePixel(const ModelDepth& m, int ue, int ve, int du,
                                     int& walked) {
   walked = 0;
   for (int in = 0; in <= max_walk; ++in) {
-    const int u = ue - static_cast<int>(std::lround(static_cast<double>(du * in) / steps));
-    const int v = ve - static_cast<int>(std::lround(static_cast<double>(dv * in) / steps));
+    const auto [u, v] = stepInward(ue, ve, du, dv, steps, in);
     if (!m.covers(u, v))
       break;
     walked = in;
@@ -281,8 +287,7 @@ bool onModelSurfaceExtended(const Footprint& f, const ModelDepth& m, const Depth
                                         max_walk, params, walked);
   const float edge = m.depth[static_cast<std::size_t>(ve) * m.width + ue];
   for (int back = 2; back >= 1; --back) {
-    const int ui = ue - static_cast<int>(std::lround(static_cast<double>(du * back) / steps));
-    const int vi = ve - static_cast<int>(std::lround(static_cast<double>(dv * back) / steps));
+    const auto [ui, vi] = stepInward(ue, ve, du, dv, steps, back);
     if (!m.covers(ui, vi))
       continue;
     const float slope =

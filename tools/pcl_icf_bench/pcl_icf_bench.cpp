@@ -133,8 +133,8 @@ struct Options {
    * report its best hypothesis with its confidence, for calibration curves. */
   std::optional<double> scene_min_confidence;
   pcl::icf::SacParams sac;
-  /** --icf's fields over IcfParams' defaults, applied in order (applyIcfOverrides). */
-  std::vector<std::pair<std::string, double>> icf_overrides;
+  /** IcfParams' defaults with --icf's fields (threads and sac are set per run: icfParams). */
+  pcl::icf::IcfParams icf;
   std::string command_line = "pcl_icf_bench";
 };
 
@@ -215,14 +215,11 @@ void applyIcfOverride(pcl::icf::IcfParams& p, const std::string& key, double v) 
     throw std::invalid_argument("--icf: unknown field " + key);
 }
 
-/** IcfParams' defaults with \a o's --icf fields and threads; validated. */
+/** \a o's ICF parameters (--icf) with its threads and SacParams. */
 pcl::icf::IcfParams icfParams(const Options& o) {
-  pcl::icf::IcfParams p;
-  for (const auto& [key, value] : o.icf_overrides)
-    applyIcfOverride(p, key, value);
+  pcl::icf::IcfParams p = o.icf;
   p.threads = o.threads;
   p.sac = o.sac;
-  p.validate();
   return p;
 }
 
@@ -259,8 +256,10 @@ bool parseOptions(int argc, char** argv, Options& o) {
       for (const auto& kv : splitComma(args.value(arg)))
         applySacOverride(o.sac, kv);
     } else if (arg == "--icf") {
-      for (const auto& kv : splitComma(args.value(arg)))
-        o.icf_overrides.push_back(keyValue(arg, kv));
+      for (const auto& kv : splitComma(args.value(arg))) {
+        const auto [key, value] = keyValue(arg, kv);
+        applyIcfOverride(o.icf, key, value);
+      }
     } else if (arg == "--ppf-sampling")
       o.ppf_sampling = parseNumber(arg, args.value(arg));
     else if (arg == "--scene-min-confidence")
@@ -284,7 +283,7 @@ bool parseOptions(int argc, char** argv, Options& o) {
   if (!(o.ppf_sampling >= 0.01 && o.ppf_sampling <= 0.5))
     throw std::invalid_argument("--ppf-sampling must lie in [0.01, 0.5]");
   o.sac.validate();
-  icfParams(o);  // the --icf fields' names and ranges, before any case runs
+  icfParams(o).validate();  // the --icf fields' ranges, before any case runs
   if (o.plot_dir.empty())
     o.plot_dir = o.out_dir;
   if (o.name.empty())

@@ -129,10 +129,17 @@ bool isAcceptable(const PoseQuality& q, const AcceptanceParams& p) {
 namespace {
 
 double exactKernelScore(const ClosestFaceQuery& index, const std::vector<Eigen::Vector3f>& points,
-                        const Eigen::Isometry3f& scene_to_model, float kernel) {
-  double score = 0.0;
-  for (const auto& x : points)
-    score += kernelScore(index.closestFace(scene_to_model * x, kernel).distance, kernel);
+                        const Eigen::Isometry3f& scene_to_model, float kernel, int threads) {
+  std::vector<float> scores(points.size());
+  const int n = static_cast<int>(points.size());
+#pragma omp parallel for schedule(static) num_threads(std::max(1, threads))
+  for (int i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    scores[k] = kernelScore(index.closestFace(scene_to_model * points[k], kernel).distance, kernel);
+  }
+  double score = 0.0;  // summed in order: the same for any thread count
+  for (float s : scores)
+    score += s;
   return score;
 }
 
@@ -160,19 +167,19 @@ PoseHypothesis fastSearch(const IcfModel& model, const std::vector<Eigen::Vector
   const std::vector<PoseHypothesis> hypotheses =
       globalSearch(model, points, camera, params.global, params.seed, threads);
   const std::size_t n = std::min(params.exact_candidates, hypotheses.size());
+  // One candidate after the other, each on every thread: three candidates on two cores would
+  // otherwise take two rounds with one core idle in the second.
   std::vector<PoseHypothesis> refined(n);
-#pragma omp parallel for schedule(dynamic) num_threads(threads)
-  for (int k = 0; k < static_cast<int>(n); ++k) {
-    const auto i = static_cast<std::size_t>(k);
+  for (std::size_t i = 0; i < n; ++i) {
     const std::vector<Eigen::Vector3f> subset =
         internal::randomSubset(pointsNearModel(model, points, hypotheses[i].scene_to_model,
                                                params.refinement.initial_inlier_distance),
                                params.candidate_points, params.seed + 1);
     refined[i].scene_to_model =
-        refinePose(model.index(), subset, hypotheses[i].scene_to_model, params.refinement, 1)
+        refinePose(model.index(), subset, hypotheses[i].scene_to_model, params.refinement, threads)
             .scene_to_model;
     refined[i].score = exactKernelScore(model.index(), subset, refined[i].scene_to_model,
-                                        params.global.fine_kernel);
+                                        params.global.fine_kernel, threads);
   }
   PoseHypothesis best;
   best.score = -1.0;
@@ -325,16 +332,24 @@ class PoseEstimation {
   /** Refine from \a from (ICP's one stage with a guess, else coarse to fine), measure with
    * exact distances and the seen-through check, accept or reject. A start worth_refining
    * refuses is returned as it is, skipped. */
-  Outcome refineAndMeasure(const Eigen::Isometry3f& from, const IterationCallback& cb) const {
+  Outcome refineAndMeasure(const Eigen::Isometry3f& from, bool from_refined_search,
+                           const IterationCallback& cb) const {
     Outcome o;
     if (!guess_ && worth_refining_ && !worth_refining_(from)) {
       o.refined.scene_to_model = from;
       o.skipped = true;
       return o;
     }
+    // The fast search's start is already refined with exact faces through the whole Tukey
+    // schedule (on a subset): the final refinement goes on from the smallest radius instead of
+    // widening it to 2 cm again (same poses on every suite, a third less time on real crops;
+    // doc/BENCHMARKS.md). A SampleConsensus or thesis start runs the whole schedule.
+    RefinementParams refinement = params_.refinement;
+    if (from_refined_search)
+      refinement.initial_inlier_distance = refinement.final_inlier_distance;
     o.refined =
         guess_ ? refinePose(model_.index(), points_, from, params_.refinement, threads_, cb)
-               : refineCoarseToFine(model_.index(), points_, from, params_.refinement,
+               : refineCoarseToFine(model_.index(), points_, from, refinement,
                                     params_.coarse_points, params_.fine_iterations, threads_, cb);
     o.quality =
         measurePoseQuality(model_, points_, o.refined.scene_to_model, camera_,
@@ -354,7 +369,7 @@ class PoseEstimation {
     const Eigen::Isometry3f sac_pose = sacStart(result);
     if (result.sac_status != SacStatus::Found)
       return;
-    Outcome fallback = refineAndMeasure(sac_pose, cb);
+    Outcome fallback = refineAndMeasure(sac_pose, false, cb);
     if (fallback.accepted || fallback.quality.surface_coverage > best.quality.surface_coverage) {
       best = fallback;
       result.method = "sac+icf";
@@ -422,7 +437,10 @@ IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>
     throw std::invalid_argument("estimatePose: the initial guess has a non-finite entry");
   const PoseEstimation estimation(model, points, camera, params, guess, worth_refining,
                                   camera_image);
-  Outcome best = estimation.refineAndMeasure(estimation.firstStart(result), callback);
+  const bool from_fast_search = !guess && params.fallback != FallbackPolicy::Always &&
+                                params.strategy == SearchStrategy::Fast;
+  Outcome best =
+      estimation.refineAndMeasure(estimation.firstStart(result), from_fast_search, callback);
   // A start the caller refused (worth_refining) ends the search here: the caller's check says
   // the cluster holds nothing it could accept near the search's best.
   if (!guess && params.fallback == FallbackPolicy::Auto && !best.accepted && !best.skipped)

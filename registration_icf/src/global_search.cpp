@@ -195,21 +195,39 @@ namespace {
 using internal::fieldKernelScore;
 using internal::SearchAnchor;
 
-/** Model-frame centroid of the surface the camera sees along \a view (model frame), weighted
- * by projected area; the surface centroid when nothing faces the camera. */
-Eigen::Vector3f visibleCentroid(const IcfModel& model, std::size_t samples,
-                                const Eigen::Vector3f& view) {
-  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-  float weight = 0.f;
+/** Model-frame centroids of the surface the camera sees along each of \a views (model frame),
+ * weighted by projected area; the surface centroid where nothing faces the camera. Per view two
+ * matrix-vector products on the first \a samples surface samples (weights w = max(0, -N v),
+ * sums P w), the views shared among \a threads: a loop over samples per view on one thread was
+ * a quarter of a small cluster's search. Each view's sums are one thread's, in one order: the
+ * same for any thread count (a matrix-matrix product would not be: Eigen blocks it by its own
+ * thread count). */
+std::vector<Eigen::Vector3f> visibleCentroids(const IcfModel& model, std::size_t samples,
+                                              const std::vector<Eigen::Vector3f>& views,
+                                              int threads) {
   const std::size_t n = std::min(samples, model.samples().size());
+  Eigen::MatrixXf normals(n, 3), points(4, n);  // points' 4th row sums the weights
   for (std::size_t i = 0; i < n; ++i) {
-    const float w = -model.samples()[i].normal.dot(view);
-    if (w > 0.f) {
-      sum += w * model.samples()[i].point;
-      weight += w;
+    const auto row = static_cast<Eigen::Index>(i);
+    normals.row(row) = -model.samples()[i].normal.transpose();
+    points.col(row) << model.samples()[i].point, 1.f;
+  }
+  std::vector<Eigen::Vector3f> centroids(views.size(), model.mesh().surfaceCentroid());
+  const int count = static_cast<int>(views.size());
+#pragma omp parallel num_threads(std::max(1, threads))
+  {
+    Eigen::VectorXf weights(static_cast<Eigen::Index>(n));
+    Eigen::Vector4f sums;
+#pragma omp for schedule(static)
+    for (int v = 0; v < count; ++v) {
+      weights.noalias() = normals * views[static_cast<std::size_t>(v)];
+      weights = weights.cwiseMax(0.f);
+      sums.noalias() = points * weights;
+      if (sums[3] > 0.f)
+        centroids[static_cast<std::size_t>(v)] = sums.head<3>() / sums[3];
     }
   }
-  return weight > 0.f ? Eigen::Vector3f(sum / weight) : model.mesh().surfaceCentroid();
+  return centroids;
 }
 
 bool isDistinct(const PoseHypothesis& h, const std::vector<PoseHypothesis>& kept, float rotation,
@@ -265,10 +283,11 @@ std::vector<PoseHypothesis> coarsePass(const IcfModel& model,
       anchors.size() > 1 ? std::max<std::size_t>(1, params.rotations / 2) : params.rotations;
   const std::vector<Eigen::Quaternionf> rotations =
       uniformRotations(rotation_count, seed ^ 0x9e3779b97f4a7c15ULL);
-  std::vector<Eigen::Vector3f> visible_centroids(rotations.size());
+  std::vector<Eigen::Vector3f> views(rotations.size());
   for (std::size_t r = 0; r < rotations.size(); ++r)
-    visible_centroids[r] = visibleCentroid(model, params.centroid_samples,
-                                           rotations[r].toRotationMatrix().transpose() * view);
+    views[r] = rotations[r].toRotationMatrix().transpose() * view;
+  const std::vector<Eigen::Vector3f> visible_centroids =
+      visibleCentroids(model, params.centroid_samples, views, threads);
   // The cascade's first stage: the first prescreen_points of each anchor's random subset.
   std::vector<std::vector<Eigen::Vector3f>> prescreen;
   const bool prescreened =

@@ -4,6 +4,8 @@
  */
 #include <pcl/icf/icf_model.h>
 
+#include <pcl/icf/field_bounded_closest_face.h>
+
 namespace pcl {
 namespace icf {
 
@@ -15,8 +17,9 @@ IcfModel::ConstPtr IcfModel::build(const pcl::PolygonMesh& mesh, const IcfModelP
         ": must lie in [100, 1e7]");
   std::shared_ptr<IcfModel> model(new IcfModel());
   model->mesh_ = std::make_unique<FaceMesh>(FaceMesh::build(mesh, params.mesh));
-  model->index_ = std::make_unique<EmbreeClosestFaceIndex>(*model->mesh_);
-  model->field_ = std::make_unique<ClosestPointField>(*model->index_, params.field);
+  model->exact_index_ = std::make_unique<EmbreeClosestFaceIndex>(*model->mesh_);
+  model->field_ = std::make_unique<ClosestPointField>(*model->exact_index_, params.field);
+  model->index_ = std::make_unique<FieldBoundedClosestFace>(*model->exact_index_, *model->field_);
   model->samples_ = sampleSurface(*model->mesh_, params.surface_samples, params.seed);
   const Eigen::Vector3f& c = model->mesh_->surfaceCentroid();
   for (const Eigen::Vector3f& v : model->mesh_->vertices())

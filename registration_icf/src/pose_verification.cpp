@@ -7,6 +7,7 @@
 #include <pcl/point_types.h>
 #include <pcl_icf_internal/parameter_check.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -118,14 +119,20 @@ PoseQuality measurePoseQuality(const IcfModel& model,
     cloud->push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
   pcl::KdTreeFLANN<pcl::PointXYZ> tree;
   tree.setInputCloud(cloud);
-  std::size_t covered = 0;
-  pcl::Indices index(1);
-  std::vector<float> sq_dist(1);
-  for (std::size_t s : visible) {
-    const Eigen::Vector3f p = model_to_scene * model.samples()[s].point;
-    if (tree.nearestKSearch(pcl::PointXYZ(p.x(), p.y(), p.z()), 1, index, sq_dist) > 0 &&
-        sq_dist[0] <= inlier_distance * inlier_distance)
-      ++covered;
+  long covered = 0;  // a count: the same for any thread count
+  const int visible_count = static_cast<int>(visible.size());
+#pragma omp parallel num_threads(std::max(1, threads))
+  {
+    pcl::Indices index(1);
+    std::vector<float> sq_dist(1);
+#pragma omp for schedule(static) reduction(+ : covered)
+    for (int k = 0; k < visible_count; ++k) {
+      const Eigen::Vector3f p =
+          model_to_scene * model.samples()[visible[static_cast<std::size_t>(k)]].point;
+      if (tree.nearestKSearch(pcl::PointXYZ(p.x(), p.y(), p.z()), 1, index, sq_dist) > 0 &&
+          sq_dist[0] <= inlier_distance * inlier_distance)
+        ++covered;
+    }
   }
   q.surface_coverage = static_cast<double>(covered) / static_cast<double>(visible.size());
   return q;

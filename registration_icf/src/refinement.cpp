@@ -99,8 +99,9 @@ void accumulate(const Eigen::Vector3f& y, const Eigen::Vector3f& c, const Eigen:
   ne.weight += w;
 }
 
-/** The iteration shared by the exact and the field refinement. \a correspond(y, radius, c, u)
- * fills the closest point and residual direction of a model-frame point, or returns false. */
+/** The iteration shared by the exact and the field refinement. \a correspond(i, y, radius, c, u)
+ * fills the closest point and residual direction of the model-frame point y of the i-th used
+ * scene point (the same i in every iteration), or returns false. */
 template <typename Correspond>
 RefinementResult iterate(const Correspond& correspond, const Eigen::Vector3f& pivot, double scale,
                          const std::vector<Eigen::Vector3f>& scene_points,
@@ -117,8 +118,8 @@ RefinementResult iterate(const Correspond& correspond, const Eigen::Vector3f& pi
   float radius = params.initial_inlier_distance;
   double previous_fitness = std::numeric_limits<double>::infinity();
   threads = std::max(1, threads);
-  // Fixed chunks reduced in order: the same sums for any thread count.
-  const int chunks = threads > 1 ? 64 : 1;
+  // Fixed chunks reduced in order: the same sums for any thread count, one thread included.
+  const int chunks = 64;
   std::vector<NormalEquations> partial(static_cast<std::size_t>(chunks));
 
   for (int it = 0; it < params.max_iterations; ++it) {
@@ -129,7 +130,7 @@ RefinementResult iterate(const Correspond& correspond, const Eigen::Vector3f& pi
       for (int i = chunk; i < n; i += chunks) {
         const Eigen::Vector3f y = T * scene_points[static_cast<std::size_t>(i) * stride];
         Eigen::Vector3f c, u;
-        if (correspond(y, radius, c, u))
+        if (correspond(i, y, radius, c, u))
           accumulate(y, c, u, pivot, radius, scale, partial[static_cast<std::size_t>(chunk)]);
       }
     NormalEquations ne;
@@ -170,6 +171,16 @@ RefinementResult iterate(const Correspond& correspond, const Eigen::Vector3f& pi
   return result;
 }
 
+/** The query radius for \a y: \a radius, or less when \a face (-1: none) is closer than
+ * that. Slightly widened so that rounding cannot leave the face itself outside. */
+float withinPreviousFace(const FaceMesh& mesh, int face, const Eigen::Vector3f& y, float radius) {
+  if (face < 0)
+    return radius;
+  const float d =
+      std::sqrt(closestPointOnMeshFace(mesh, static_cast<std::size_t>(face), y).squared_distance);
+  return std::min(radius, d * (1.f + 1e-5f) + 1e-9f);
+}
+
 double modelScale(const FaceMesh& mesh) {
   return std::max(1e-3, 0.5 * static_cast<double>((mesh.boundsMax() - mesh.boundsMin()).norm()));
 }
@@ -180,11 +191,19 @@ RefinementResult refinePose(const ClosestFaceQuery& index,
                             const std::vector<Eigen::Vector3f>& scene_points,
                             const Eigen::Isometry3f& initial, const RefinementParams& params,
                             int threads, const IterationCallback& callback) {
-  const auto correspond = [&index](const Eigen::Vector3f& y, float radius, Eigen::Vector3f& c,
-                                   Eigen::Vector3f& u) {
-    const ClosestFace hit = index.closestFace(y, radius);
-    if (!hit.found())
+  // Each point's closest face of the previous iteration bounds its closest distance now (a
+  // step moves a point by little): querying within that bound instead of the Tukey radius
+  // lets the BVH skip most faces. Exact all the same: the closest face lies within the bound.
+  std::vector<int> previous_face(scene_points.size(), -1);
+  const auto correspond = [&index, &previous_face](int i, const Eigen::Vector3f& y, float radius,
+                                                   Eigen::Vector3f& c, Eigen::Vector3f& u) {
+    int& previous = previous_face[static_cast<std::size_t>(i)];
+    ClosestFace hit = index.closestFace(y, withinPreviousFace(index.mesh(), previous, y, radius));
+    if (!hit.found()) {
+      previous = -1;
       return false;
+    }
+    previous = hit.face;
     c = hit.point;
     u = residualDirection(index.mesh(), y, hit);
     return true;
@@ -197,7 +216,7 @@ RefinementResult refinePoseOnField(const ClosestPointField& field, const Eigen::
                                    double scale, const std::vector<Eigen::Vector3f>& scene_points,
                                    const Eigen::Isometry3f& initial,
                                    const RefinementParams& params) {
-  const auto correspond = [&field](const Eigen::Vector3f& y, float radius, Eigen::Vector3f& c,
+  const auto correspond = [&field](int, const Eigen::Vector3f& y, float radius, Eigen::Vector3f& c,
                                    Eigen::Vector3f& u) {
     c = field.closestPoint(y);
     const Eigen::Vector3f offset = y - c;

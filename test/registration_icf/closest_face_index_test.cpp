@@ -1,9 +1,11 @@
-// The accelerated exact index (Embree) against the brute-force reference on random points
+// The accelerated exact index (Embree), and the same bounded first by the closest-point field
+// (what IcfModel::index() answers with), against the brute-force reference on random points
 // around synthetic and real meshes, radius-bounded queries, and concurrent queries.
 #include "synthetic/synthetic_models.h"
 #include "test_paths.h"
 
 #include <pcl/icf/closest_face_query.h>
+#include <pcl/icf/field_bounded_closest_face.h>
 #include <pcl/icf/io/mesh_io.h>
 
 #include <gtest/gtest.h>
@@ -14,19 +16,23 @@
 namespace {
 
 using pcl::icf::BruteForceClosestFace;
+using pcl::icf::ClosestFaceQuery;
+using pcl::icf::ClosestPointField;
 using pcl::icf::EmbreeClosestFaceIndex;
 using pcl::icf::FaceMesh;
+using pcl::icf::FieldBoundedClosestFace;
 
 // Both answers are computed by the same float closest-point routine on the winning face, so
 // equal distances are expected up to the rounding of ties: 1e-6 relative to the mesh size.
-void expectSameAnswers(const FaceMesh& mesh, int count, std::uint64_t seed, float radius) {
+// Points uniform over the bounding box widened by \a spread of its size on every side.
+void expectSameAnswers(const FaceMesh& mesh, const ClosestFaceQuery& index, int count,
+                       std::uint64_t seed, float radius, float spread = 0.25f) {
   const BruteForceClosestFace brute(mesh);
-  const EmbreeClosestFaceIndex index(mesh);
   const Eigen::Vector3f lo = mesh.boundsMin(), hi = mesh.boundsMax();
   const float size = (hi - lo).norm();
   const float tolerance = 1e-6f * size;
   std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<float> u(-0.25f, 1.25f);
+  std::uniform_real_distribution<float> u(-spread, 1.f + spread);
   for (int i = 0; i < count; ++i) {
     const Eigen::Vector3f t(u(rng), u(rng), u(rng));
     const Eigen::Vector3f p = lo + t.cwiseProduct(hi - lo);
@@ -49,9 +55,36 @@ TEST(ClosestFaceIndex, MatchesBruteForceOnThesisModels) {
   for (const auto& name : pcl::icf::synthetic::thesisModelNames()) {
     SCOPED_TRACE(name);
     const auto mesh = FaceMesh::build(pcl::icf::synthetic::thesisModel(name).mesh);
-    expectSameAnswers(mesh, 3000, 11, std::numeric_limits<float>::infinity());
-    expectSameAnswers(mesh, 3000, 12, 0.01f);  // 1 cm radius: some points find nothing
+    const EmbreeClosestFaceIndex index(mesh);
+    expectSameAnswers(mesh, index, 3000, 11, std::numeric_limits<float>::infinity());
+    expectSameAnswers(mesh, index, 3000, 12, 0.01f);  // 1 cm radius: some points find nothing
   }
+}
+
+// The field's bound only narrows the search: the same answers inside the field's grid, near the
+// surface, and far beyond the grid (points up to 3 model sizes away), with and without radius.
+TEST(FieldBoundedClosestFace, MatchesBruteForceOnThesisModels) {
+  for (const auto& name : pcl::icf::synthetic::thesisModelNames()) {
+    SCOPED_TRACE(name);
+    const auto mesh = FaceMesh::build(pcl::icf::synthetic::thesisModel(name).mesh);
+    const EmbreeClosestFaceIndex exact(mesh);
+    const ClosestPointField field(exact);
+    const FieldBoundedClosestFace bounded(exact, field);
+    expectSameAnswers(mesh, bounded, 3000, 15, std::numeric_limits<float>::infinity());
+    expectSameAnswers(mesh, bounded, 3000, 16, 0.01f);
+    expectSameAnswers(mesh, bounded, 1000, 17, std::numeric_limits<float>::infinity(), 3.f);
+    expectSameAnswers(mesh, bounded, 3000, 18, 0.006f, 0.02f);  // a refinement's radius
+  }
+}
+
+TEST(FieldBoundedClosestFace, MatchesBruteForceOnTheBunny) {
+  PCL_ICF_REQUIRE_SHARED(path, "meshes/bunny.ply");
+  const auto mesh = FaceMesh::build(pcl::icf::io::loadPolygonMesh(path));
+  const EmbreeClosestFaceIndex exact(mesh);
+  const ClosestPointField field(exact);
+  const FieldBoundedClosestFace bounded(exact, field);
+  expectSameAnswers(mesh, bounded, 2000, 19, std::numeric_limits<float>::infinity());
+  expectSameAnswers(mesh, bounded, 2000, 20, 0.01f, 0.05f);
 }
 
 TEST(ClosestFaceIndex, MatchesBruteForceOnTheBunny) {
@@ -59,8 +92,9 @@ TEST(ClosestFaceIndex, MatchesBruteForceOnTheBunny) {
   const auto mesh = FaceMesh::build(pcl::icf::io::loadPolygonMesh(path));
   EXPECT_EQ(mesh.size() + mesh.report().degenerate_dropped + mesh.report().duplicate_dropped,
             3851u);
-  expectSameAnswers(mesh, 2000, 13, std::numeric_limits<float>::infinity());
-  expectSameAnswers(mesh, 2000, 14, 0.01f);
+  const EmbreeClosestFaceIndex index(mesh);
+  expectSameAnswers(mesh, index, 2000, 13, std::numeric_limits<float>::infinity());
+  expectSameAnswers(mesh, index, 2000, 14, 0.01f);
 }
 
 TEST(ClosestFaceIndex, RadiusBoundsTheSearch) {

@@ -85,6 +85,34 @@ TEST(ClosestPointField, BeyondTheGridAtLeastTheMargin) {
     EXPECT_GE(field.distance(Eigen::Vector3f(x, 0.f, 0.f)), params.margin - 1e-6f) << x;
 }
 
+// distanceUpperBound is what FieldBoundedClosestFace cuts every exact query to: it must never
+// be below the exact distance (the closest face would be missed), and inside the grid at most
+// the exact distance plus twice the half-diagonal to the nearest node (plus its 1e-5 widening).
+TEST(ClosestPointField, UpperBoundIsAnUpperBoundAndTightInTheGrid) {
+  for (const auto& name : pcl::icf::synthetic::thesisModelNames()) {
+    SCOPED_TRACE(name);
+    const auto mesh = FaceMesh::build(pcl::icf::synthetic::thesisModel(name).mesh);
+    const EmbreeClosestFaceIndex index(mesh);
+    const ClosestPointField field(index);
+    const Eigen::Vector3f lo = field.origin();
+    const Eigen::Vector3f hi =
+        lo + field.cellSize() * (field.dimensions() - Eigen::Vector3i::Ones()).cast<float>();
+    std::mt19937_64 rng(23);
+    std::uniform_real_distribution<float> u(-1.f, 2.f);  // a third inside the grid per axis
+    const float slack = 1.7320508f * field.cellSize() + 1e-4f;
+    for (int i = 0; i < 20000; ++i) {
+      const Eigen::Vector3f p = lo + Eigen::Vector3f(u(rng), u(rng), u(rng)).cwiseProduct(hi - lo);
+      const float exact = index.closestFace(p).distance;
+      const float bound = field.distanceUpperBound(p);
+      ASSERT_GE(bound, exact) << p.transpose();
+      const bool inside = (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
+      if (inside) {
+        ASSERT_LE(bound, exact + slack) << p.transpose();
+      }
+    }
+  }
+}
+
 TEST(ClosestPointField, AbsurdParametersAreRejected) {
   const auto mesh = FaceMesh::build(pcl::icf::synthetic::makeBox(0.2, 0.2, 0.2));
   const EmbreeClosestFaceIndex index(mesh);

@@ -67,6 +67,12 @@ class ClosestPointField {
    * blend of points on different faces. */
   Eigen::Vector3f closestPoint(const Eigen::Vector3f& p) const;
 
+  /** \brief A strict upper bound on the exact distance from \a p to the mesh, anywhere: |p - c|
+   * for the closest point c (on the mesh, exact) stored at the grid node nearest to \a p
+   * (clamped to the grid), widened by float rounding. At most the exact distance plus twice
+   * the distance to that node (about a cell inside the grid). */
+  float distanceUpperBound(const Eigen::Vector3f& p) const;
+
   float cellSize() const { return cell_; }
   const Eigen::Vector3f& origin() const { return origin_; }
   const Eigen::Vector3i& dimensions() const { return dims_; }

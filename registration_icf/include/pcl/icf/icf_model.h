@@ -37,6 +37,8 @@ class IcfModel {
   static ConstPtr build(const pcl::PolygonMesh& mesh, const IcfModelParams& params = {});
 
   const FaceMesh& mesh() const { return *mesh_; }
+  /** \brief Exact closest faces, each query bounded by the field first (FieldBoundedClosestFace).
+   */
   const ClosestFaceQuery& index() const { return *index_; }
   const ClosestPointField& field() const { return *field_; }
   const std::vector<SurfaceSample>& samples() const { return samples_; }
@@ -49,8 +51,9 @@ class IcfModel {
  private:
   IcfModel() = default;
   std::unique_ptr<FaceMesh> mesh_;
-  std::unique_ptr<ClosestFaceQuery> index_;
+  std::unique_ptr<ClosestFaceQuery> exact_index_;  // the BVH; the field is built from it
   std::unique_ptr<ClosestPointField> field_;
+  std::unique_ptr<ClosestFaceQuery> index_;  // exact_index_ bounded by field_
   std::vector<SurfaceSample> samples_;
   float radius_ = 0.f;
 };

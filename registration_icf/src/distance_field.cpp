@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -126,7 +127,7 @@ PCL_ICF_FIELD_INLINE ClosestPointField::Cell ClosestPointField::locate(
   Cell cell;
   for (int a = 0; a < 3; ++a) {
     const float limit = static_cast<float>(dims_[a] - 1);
-    const float ga = std::min(std::max(g[a], 0.f), limit);  // NaN -> 0
+    const float ga = g[a] > 0.f ? std::min(g[a], limit) : 0.f;  // NaN -> 0
     int ia = static_cast<int>(ga);
     if (ia >= dims_[a] - 1)
       ia = dims_[a] - 2;
@@ -173,17 +174,24 @@ PCL_ICF_FIELD_INLINE float ClosestPointField::interpolateDistance(const Cell& ce
 }
 
 float ClosestPointField::distanceUpperBound(const Eigen::Vector3f& p) const {
+  if (!p.allFinite())
+    return std::numeric_limits<float>::infinity();
   const Eigen::Vector3f g = (p - origin_) * inv_cell_;
   std::size_t node = 0, stride = 1;
   for (int a = 0; a < 3; ++a) {
-    const float ga = std::min(std::max(g[a], 0.f), static_cast<float>(dims_[a] - 1));  // NaN: 0
-    node += stride * static_cast<std::size_t>(std::lround(ga));
+    const float limit = static_cast<float>(dims_[a] - 1);
+    const float ga = g[a] > 0.f ? std::min(g[a], limit) : 0.f;
+    const int ia = std::min(static_cast<int>(ga + 0.5f), dims_[a] - 1);  // the nearest node
+    node += stride * static_cast<std::size_t>(ia);
     stride *= static_cast<std::size_t>(dims_[a]);
   }
   const float d = (p - Eigen::Map<const Eigen::Vector3f>(&nodes_[3 * node])).norm();
-  // The stored point and the query's distances are float roundings (relative 6e-8 of the
-  // coordinates): widen by far more than that.
-  return d + 1e-5f * (d + cell_ + p.cwiseAbs().maxCoeff());
+  // The stored point and the exact query's distance are float roundings of closest-point
+  // computations on faces within the grid (errors of a few float epsilons, 6e-8, of the
+  // coordinates involved): widen by 1e-5 of the largest of them.
+  const float scale = p.cwiseAbs().maxCoeff() + origin_.cwiseAbs().maxCoeff() +
+                      cell_ * static_cast<float>(dims_.maxCoeff());
+  return d + 1e-5f * (d + scale);
 }
 
 Eigen::Vector3f ClosestPointField::closestPoint(const Eigen::Vector3f& p) const {

@@ -160,38 +160,44 @@ std::vector<Eigen::Vector3f> pointsNearModel(const IcfModel& model,
   return near;
 }
 
+/** A start for the final refinement, and whether an exact refinement already took it through
+ * the whole Tukey schedule (it converged at the smallest radius). */
+struct Start {
+  Eigen::Isometry3f scene_to_model = Eigen::Isometry3f::Identity();
+  double search_score = 0.0;
+  bool at_smallest_radius = false;
+};
+
 /** The fast strategy's start for the final refinement: the global search's best hypotheses,
  * each refined with exact faces on a subset, the best by the fine kernel. */
-PoseHypothesis fastSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& points,
-                          const Eigen::Vector3f& camera, const IcfParams& params, int threads) {
+Start fastSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& points,
+                 const Eigen::Vector3f& camera, const IcfParams& params, int threads) {
   const std::vector<PoseHypothesis> hypotheses =
       globalSearch(model, points, camera, params.global, params.seed, threads);
   const std::size_t n = std::min(params.exact_candidates, hypotheses.size());
   // One candidate after the other, each on every thread: three candidates on two cores would
   // otherwise take two rounds with one core idle in the second.
-  std::vector<PoseHypothesis> refined(n);
+  Start best;
+  best.search_score = -1.0;
   for (std::size_t i = 0; i < n; ++i) {
     const std::vector<Eigen::Vector3f> subset =
         internal::randomSubset(pointsNearModel(model, points, hypotheses[i].scene_to_model,
                                                params.refinement.initial_inlier_distance),
                                params.candidate_points, params.seed + 1);
-    refined[i].scene_to_model =
-        refinePose(model.index(), subset, hypotheses[i].scene_to_model, params.refinement, threads)
-            .scene_to_model;
-    refined[i].score = exactKernelScore(model.index(), subset, refined[i].scene_to_model,
-                                        params.global.fine_kernel, threads);
+    const RefinementResult refined =
+        refinePose(model.index(), subset, hypotheses[i].scene_to_model, params.refinement, threads);
+    const double score = exactKernelScore(model.index(), subset, refined.scene_to_model,
+                                          params.global.fine_kernel, threads);
+    if (score > best.search_score)
+      best = Start{refined.scene_to_model, score, refined.converged};
   }
-  PoseHypothesis best;
-  best.score = -1.0;
-  for (const auto& h : refined)
-    if (h.score > best.score)
-      best = h;
   return best;
 }
 
-/** refinePose on at most \a coarse_points points, then on all of \a params' from the final
- * Tukey radius for at most \a fine_iterations (the coarse stage has done the schedule). The
- * callback sees the iterations of both stages numbered on. */
+/** refinePose on at most \a coarse_points points (from params.initial_inlier_distance down the
+ * schedule), then on all of \a params' from the final Tukey radius for at most
+ * \a fine_iterations (the coarse stage has reached it). The callback sees the iterations of
+ * both stages numbered on. */
 RefinementResult refineCoarseToFine(const ClosestFaceQuery& index,
                                     const std::vector<Eigen::Vector3f>& points,
                                     const Eigen::Isometry3f& from, const RefinementParams& params,
@@ -311,41 +317,46 @@ class PoseEstimation {
 
   /** The first start: the guess, SAC's (policy Always) or the search's (params.strategy);
    * IcfResult::method, search_score and the SAC fields filled in. */
-  Eigen::Isometry3f firstStart(IcfResult& result) const {
+  Start firstStart(IcfResult& result) const {
     if (guess_) {
       result.method = "guess+icf";
-      return *guess_;
+      return Start{*guess_};
     }
     if (params_.fallback == FallbackPolicy::Always) {
       result.method = "sac+icf";
-      return sacStart(result);
+      return Start{sacStart(result)};
     }
-    const PoseHypothesis h = params_.strategy == SearchStrategy::Thesis
-                                 ? thesisSearch(model_, points_, params_.thesis, params_.objective,
-                                                params_.seed, threads_)
-                                 : fastSearch(model_, points_, camera_, params_, threads_);
-    result.search_score = h.score;
+    Start start;
+    if (params_.strategy == SearchStrategy::Thesis) {
+      const PoseHypothesis h =
+          thesisSearch(model_, points_, params_.thesis, params_.objective, params_.seed, threads_);
+      start = Start{h.scene_to_model, h.score};
+    } else {
+      start = fastSearch(model_, points_, camera_, params_, threads_);
+    }
+    result.search_score = start.search_score;
     result.method = params_.strategy == SearchStrategy::Thesis ? "thesis+icf" : "fast+icf";
-    return h.scene_to_model;
+    return start;
   }
 
   /** Refine from \a from (ICP's one stage with a guess, else coarse to fine), measure with
    * exact distances and the seen-through check, accept or reject. A start worth_refining
    * refuses is returned as it is, skipped. */
-  Outcome refineAndMeasure(const Eigen::Isometry3f& from, bool from_refined_search,
-                           const IterationCallback& cb) const {
+  Outcome refineAndMeasure(const Start& start, const IterationCallback& cb) const {
+    const Eigen::Isometry3f& from = start.scene_to_model;
     Outcome o;
     if (!guess_ && worth_refining_ && !worth_refining_(from)) {
       o.refined.scene_to_model = from;
       o.skipped = true;
       return o;
     }
-    // The fast search's start is already refined with exact faces through the whole Tukey
-    // schedule (on a subset): the final refinement goes on from the smallest radius instead of
-    // widening it to 2 cm again (same poses on every suite, a third less time on real crops;
-    // doc/BENCHMARKS.md). A SampleConsensus or thesis start runs the whole schedule.
+    // A start the fast search already refined with exact faces through the whole Tukey
+    // schedule (on a subset) goes on from the smallest radius instead of widening it to 2 cm
+    // again (the same successes on every suite, a quarter to a third less time on real crops;
+    // doc/BENCHMARKS.md, "Where the time goes on a bunny view"). Every other start (a
+    // SampleConsensus or thesis start, a candidate that did not converge) runs the schedule.
     RefinementParams refinement = params_.refinement;
-    if (from_refined_search)
+    if (start.at_smallest_radius)
       refinement.initial_inlier_distance = refinement.final_inlier_distance;
     o.refined =
         guess_ ? refinePose(model_.index(), points_, from, params_.refinement, threads_, cb)
@@ -366,10 +377,10 @@ class PoseEstimation {
    * and measured; it replaces \a best when accepted or when it covers more of the model's
    * visible surface (accepted beats rejected; between two rejected poses, more coverage). */
   void tryFallback(Outcome& best, IcfResult& result, const IterationCallback& cb) const {
-    const Eigen::Isometry3f sac_pose = sacStart(result);
+    const Start sac_start{sacStart(result)};
     if (result.sac_status != SacStatus::Found)
       return;
-    Outcome fallback = refineAndMeasure(sac_pose, false, cb);
+    Outcome fallback = refineAndMeasure(sac_start, cb);
     if (fallback.accepted || fallback.quality.surface_coverage > best.quality.surface_coverage) {
       best = fallback;
       result.method = "sac+icf";
@@ -437,10 +448,7 @@ IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>
     throw std::invalid_argument("estimatePose: the initial guess has a non-finite entry");
   const PoseEstimation estimation(model, points, camera, params, guess, worth_refining,
                                   camera_image);
-  const bool from_fast_search = !guess && params.fallback != FallbackPolicy::Always &&
-                                params.strategy == SearchStrategy::Fast;
-  Outcome best =
-      estimation.refineAndMeasure(estimation.firstStart(result), from_fast_search, callback);
+  Outcome best = estimation.refineAndMeasure(estimation.firstStart(result), callback);
   // A start the caller refused (worth_refining) ends the search here: the caller's check says
   // the cluster holds nothing it could accept near the search's best.
   if (!guess && params.fallback == FallbackPolicy::Auto && !best.accepted && !best.skipped)

@@ -6,10 +6,13 @@
 
 #include <pcl/icf/closest_face_query.h>
 #include <pcl/icf/field_bounded_closest_face.h>
+#include <pcl/icf/icf_model.h>
 #include <pcl/icf/io/mesh_io.h>
+#include <pcl/icf/refinement.h>
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <thread>
 
@@ -74,6 +77,69 @@ TEST(FieldBoundedClosestFace, MatchesBruteForceOnThesisModels) {
     expectSameAnswers(mesh, bounded, 3000, 16, 0.01f);
     expectSameAnswers(mesh, bounded, 1000, 17, std::numeric_limits<float>::infinity(), 3.f);
     expectSameAnswers(mesh, bounded, 3000, 18, 0.006f, 0.02f);  // a refinement's radius
+  }
+}
+
+// Where the bound is tightest: at the grid's nodes (the bound is then the stored point's own
+// distance, up to its widening) and a rounding away from them; and non-finite or absurd points,
+// which the exact index answers with "not found".
+TEST(FieldBoundedClosestFace, MatchesBruteForceAtTheNodesAndOnBadPoints) {
+  const auto mesh = FaceMesh::build(pcl::icf::synthetic::thesisModel("Amicelly").mesh);
+  const BruteForceClosestFace brute(mesh);
+  const EmbreeClosestFaceIndex exact(mesh);
+  const ClosestPointField field(exact);
+  const FieldBoundedClosestFace bounded(exact, field);
+  const float tolerance = 1e-6f * (mesh.boundsMax() - mesh.boundsMin()).norm();
+  std::mt19937_64 rng(24);
+  std::uniform_int_distribution<int> node_x(0, field.dimensions().x() - 1),
+      node_y(0, field.dimensions().y() - 1), node_z(0, field.dimensions().z() - 1);
+  std::uniform_real_distribution<float> jitter(-1e-4f, 1e-4f);
+  for (int i = 0; i < 3000; ++i) {
+    const Eigen::Vector3f node =
+        field.origin() + field.cellSize() * Eigen::Vector3f(static_cast<float>(node_x(rng)),
+                                                            static_cast<float>(node_y(rng)),
+                                                            static_cast<float>(node_z(rng)));
+    const Eigen::Vector3f p =
+        i % 2 ? node : node + field.cellSize() * Eigen::Vector3f(jitter(rng), jitter(rng), 0.f);
+    const auto expected = brute.closestFace(p);
+    const auto actual = bounded.closestFace(p);
+    ASSERT_TRUE(actual.found()) << "node " << i << " " << p.transpose();
+    ASSERT_NEAR(actual.distance, expected.distance, tolerance) << "node " << i;
+  }
+  for (const Eigen::Vector3f& p :
+       {Eigen::Vector3f(NAN, 0.f, 0.f), Eigen::Vector3f(0.f, INFINITY, 0.f),
+        Eigen::Vector3f(0.f, 0.f, -INFINITY)}) {
+    EXPECT_FALSE(bounded.closestFace(p).found()) << p.transpose();
+    EXPECT_FALSE(bounded.closestFace(p, 0.01f).found()) << p.transpose();
+  }
+  EXPECT_FALSE(bounded.closestFace(Eigen::Vector3f::Zero(), NAN).found());
+  const auto far = bounded.closestFace(Eigen::Vector3f(1e6f, -1e6f, 3e5f));
+  ASSERT_TRUE(far.found());
+  EXPECT_NEAR(far.distance, brute.closestFace(Eigen::Vector3f(1e6f, -1e6f, 3e5f)).distance, 1.f);
+}
+
+// The refinement with the model's index (the field's bound, then each point's previous face)
+// against the same refinement on the brute force, which has no bound to take: the same pose,
+// up to the float rounding of the same sums (1e-6).
+TEST(FieldBoundedClosestFace, RefinementLandsWhereTheBruteForceDoes) {
+  for (const auto& name : pcl::icf::synthetic::thesisModelNames()) {
+    SCOPED_TRACE(name);
+    const auto model = pcl::icf::IcfModel::build(pcl::icf::synthetic::thesisModel(name).mesh);
+    const BruteForceClosestFace brute(model->mesh());
+    std::vector<Eigen::Vector3f> points;  // the model's samples moved off by a small pose
+    for (std::size_t i = 0; i < model->samples().size(); i += 4)
+      points.push_back(model->samples()[i].point);
+    const Eigen::Isometry3f start(Eigen::Translation3f(0.004f, -0.003f, 0.002f) *
+                                  Eigen::AngleAxisf(0.08f, Eigen::Vector3f(1, 2, 3).normalized()));
+    const pcl::icf::RefinementParams params;
+    const auto a = pcl::icf::refinePose(brute, points, start, params, 2);
+    const auto b = pcl::icf::refinePose(model->index(), points, start, params, 2);
+    EXPECT_EQ(a.iterations, b.iterations);
+    EXPECT_TRUE(a.scene_to_model.matrix().isApprox(b.scene_to_model.matrix(), 1e-6f))
+        << a.scene_to_model.matrix() << "\n"
+        << b.scene_to_model.matrix();
+    EXPECT_LT(b.weighted_rmse, 1e-4);  // back on the surface (a turn about an axis of symmetry
+                                       // stays: the refinement does not move it)
   }
 }
 

@@ -69,8 +69,9 @@ class ClosestPointField {
 
   /** \brief A strict upper bound on the exact distance from \a p to the mesh, anywhere: |p - c|
    * for the closest point c (on the mesh, exact) stored at the grid node nearest to \a p
-   * (clamped to the grid), widened by float rounding. At most the exact distance plus twice
-   * the distance to that node (about a cell inside the grid). */
+   * (clamped to the grid), widened beyond float rounding. Inside the grid at most the exact
+   * distance plus twice the distance to that node (at most sqrt(3) cells). Infinite for a
+   * non-finite \a p. */
   float distanceUpperBound(const Eigen::Vector3f& p) const;
 
   float cellSize() const { return cell_; }

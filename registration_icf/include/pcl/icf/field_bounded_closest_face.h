@@ -30,6 +30,8 @@ class FieldBoundedClosestFace : public ClosestFaceQuery {
   ClosestFace closestFace(
       const Eigen::Vector3f& p,
       float max_distance = std::numeric_limits<float>::infinity()) const override {
+    // min(max_distance, bound): a NaN max_distance stays NaN (nothing found, as the exact
+    // index answers), a non-finite point gets an infinite bound and the exact index's answer.
     return exact_.closestFace(p, std::min(max_distance, field_.distanceUpperBound(p)));
   }
 

@@ -98,10 +98,8 @@ struct IcfParams {
   /** Without a guess, the final refinement first runs on at most this many points (an evenly
    * strided subset) through the whole Tukey schedule, then on refinement.max_points from the
    * smallest radius (coarse to fine: a real cluster of 20-40k points costs 30 full-resolution
-   * iterations otherwise; doc/BENCHMARKS.md, "Where the time goes"). From the fast search's
-   * start, already refined through the schedule with exact faces on candidate_points, both
-   * stages start at the smallest radius. 0: one refinement at full resolution. With a guess the
-   * refinement is ICP's: one stage, as configured. */
+   * iterations otherwise; doc/BENCHMARKS.md, "Where the time goes"). 0: one refinement at full
+   * resolution. With a guess the refinement is ICP's: one stage, as configured. */
   std::size_t coarse_points = 3000;
   /** At most this many full-resolution iterations after the coarse stage (a pose that fits
    * converges in 4-7 on real clusters; one that keeps moving is a misfit, and 30 more
@@ -169,9 +167,8 @@ using StartCheck = std::function<bool(const Eigen::Isometry3f& scene_to_model)>;
  *
  * The SampleConsensus fallback (params.fallback, sample_consensus_alignment.h): with Auto, when
  * the refined search result is not accepted, sampleConsensusAlign(params.sac) runs on the same
- * points, its pose is refined coarse to fine through the whole Tukey schedule (the search's
- * start skips the schedule when its exact refinement on candidate_points converged) and
- * measured; the accepted one is kept (the search's when both are), else the one covering more
+ * points, its pose is refined coarse to fine through the whole Tukey schedule and measured;
+ * the accepted one is kept (the search's when both are), else the one covering more
  * of the model's visible surface. With Always, SAC replaces the search (method "sac+icf");
  * when it finds nothing the refinement
  * starts from the centroid start (model surface centroid on the cluster centroid, no

@@ -120,14 +120,20 @@ double ClosestPointField::medialCellRatio() const {
   return cells > 0 ? static_cast<double>(flagged) / cells : 0.0;
 }
 
+namespace {
+/** A grid coordinate clamped to [0, \a nodes - 1]; NaN to 0. */
+PCL_ICF_FIELD_INLINE float clampToGrid(float g, int nodes) {
+  return g > 0.f ? std::min(g, static_cast<float>(nodes - 1)) : 0.f;
+}
+}  // namespace
+
 PCL_ICF_FIELD_INLINE ClosestPointField::Cell ClosestPointField::locate(
     const Eigen::Vector3f& p) const {
   // Grid coordinates, clamped so that the 8 nodes of the cell exist.
   const Eigen::Vector3f g = (p - origin_) * inv_cell_;
   Cell cell;
   for (int a = 0; a < 3; ++a) {
-    const float limit = static_cast<float>(dims_[a] - 1);
-    const float ga = g[a] > 0.f ? std::min(g[a], limit) : 0.f;  // NaN -> 0
+    const float ga = clampToGrid(g[a], dims_[a]);
     int ia = static_cast<int>(ga);
     if (ia >= dims_[a] - 1)
       ia = dims_[a] - 2;
@@ -179,8 +185,7 @@ float ClosestPointField::distanceUpperBound(const Eigen::Vector3f& p) const {
   const Eigen::Vector3f g = (p - origin_) * inv_cell_;
   std::size_t node = 0, stride = 1;
   for (int a = 0; a < 3; ++a) {
-    const float limit = static_cast<float>(dims_[a] - 1);
-    const float ga = g[a] > 0.f ? std::min(g[a], limit) : 0.f;
+    const float ga = clampToGrid(g[a], dims_[a]);
     const int ia = std::min(static_cast<int>(ga + 0.5f), dims_[a] - 1);  // the nearest node
     node += stride * static_cast<std::size_t>(ia);
     stride *= static_cast<std::size_t>(dims_[a]);

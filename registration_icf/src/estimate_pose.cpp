@@ -160,23 +160,17 @@ std::vector<Eigen::Vector3f> pointsNearModel(const IcfModel& model,
   return near;
 }
 
-/** A start for the final refinement and the search's score of it. */
-struct Start {
-  Eigen::Isometry3f scene_to_model = Eigen::Isometry3f::Identity();
-  double search_score = 0.0;
-};
-
 /** The fast strategy's start for the final refinement: the global search's best hypotheses,
  * each refined with exact faces on a subset, the best by the fine kernel. */
-Start fastSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& points,
-                 const Eigen::Vector3f& camera, const IcfParams& params, int threads) {
+PoseHypothesis fastSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& points,
+                          const Eigen::Vector3f& camera, const IcfParams& params, int threads) {
   const std::vector<PoseHypothesis> hypotheses =
       globalSearch(model, points, camera, params.global, params.seed, threads);
   const std::size_t n = std::min(params.exact_candidates, hypotheses.size());
   // One candidate after the other, each on every thread: three candidates on two cores would
   // otherwise take two rounds with one core idle in the second.
-  Start best;
-  best.search_score = -1.0;
+  PoseHypothesis best;
+  best.score = -1.0;
   for (std::size_t i = 0; i < n; ++i) {
     const std::vector<Eigen::Vector3f> subset =
         internal::randomSubset(pointsNearModel(model, points, hypotheses[i].scene_to_model,
@@ -186,8 +180,8 @@ Start fastSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& poin
         refinePose(model.index(), subset, hypotheses[i].scene_to_model, params.refinement, threads);
     const double score = exactKernelScore(model.index(), subset, refined.scene_to_model,
                                           params.global.fine_kernel, threads);
-    if (score > best.search_score)
-      best = Start{refined.scene_to_model, score};
+    if (score > best.score)
+      best = PoseHypothesis{refined.scene_to_model, score};
   }
   return best;
 }
@@ -315,33 +309,28 @@ class PoseEstimation {
 
   /** The first start: the guess, SAC's (policy Always) or the search's (params.strategy);
    * IcfResult::method, search_score and the SAC fields filled in. */
-  Start firstStart(IcfResult& result) const {
+  Eigen::Isometry3f firstStart(IcfResult& result) const {
     if (guess_) {
       result.method = "guess+icf";
-      return Start{*guess_};
+      return *guess_;
     }
     if (params_.fallback == FallbackPolicy::Always) {
       result.method = "sac+icf";
-      return Start{sacStart(result)};
+      return sacStart(result);
     }
-    Start start;
-    if (params_.strategy == SearchStrategy::Thesis) {
-      const PoseHypothesis h =
-          thesisSearch(model_, points_, params_.thesis, params_.objective, params_.seed, threads_);
-      start = Start{h.scene_to_model, h.score};
-    } else {
-      start = fastSearch(model_, points_, camera_, params_, threads_);
-    }
-    result.search_score = start.search_score;
+    const PoseHypothesis h = params_.strategy == SearchStrategy::Thesis
+                                 ? thesisSearch(model_, points_, params_.thesis, params_.objective,
+                                                params_.seed, threads_)
+                                 : fastSearch(model_, points_, camera_, params_, threads_);
+    result.search_score = h.score;
     result.method = params_.strategy == SearchStrategy::Thesis ? "thesis+icf" : "fast+icf";
-    return start;
+    return h.scene_to_model;
   }
 
   /** Refine from \a from (ICP's one stage with a guess, else coarse to fine), measure with
    * exact distances and the seen-through check, accept or reject. A start worth_refining
    * refuses is returned as it is, skipped. */
-  Outcome refineAndMeasure(const Start& start, const IterationCallback& cb) const {
-    const Eigen::Isometry3f& from = start.scene_to_model;
+  Outcome refineAndMeasure(const Eigen::Isometry3f& from, const IterationCallback& cb) const {
     Outcome o;
     if (!guess_ && worth_refining_ && !worth_refining_(from)) {
       o.refined.scene_to_model = from;
@@ -372,10 +361,10 @@ class PoseEstimation {
    * and measured; it replaces \a best when accepted or when it covers more of the model's
    * visible surface (accepted beats rejected; between two rejected poses, more coverage). */
   void tryFallback(Outcome& best, IcfResult& result, const IterationCallback& cb) const {
-    const Start sac_start{sacStart(result)};
+    const Eigen::Isometry3f sac_pose = sacStart(result);
     if (result.sac_status != SacStatus::Found)
       return;
-    Outcome fallback = refineAndMeasure(sac_start, cb);
+    Outcome fallback = refineAndMeasure(sac_pose, cb);
     if (fallback.accepted || fallback.quality.surface_coverage > best.quality.surface_coverage) {
       best = fallback;
       result.method = "sac+icf";

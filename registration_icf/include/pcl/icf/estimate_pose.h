@@ -167,10 +167,9 @@ using StartCheck = std::function<bool(const Eigen::Isometry3f& scene_to_model)>;
  *
  * The SampleConsensus fallback (params.fallback, sample_consensus_alignment.h): with Auto, when
  * the refined search result is not accepted, sampleConsensusAlign(params.sac) runs on the same
- * points, its pose is refined coarse to fine through the whole Tukey schedule and measured;
- * the accepted one is kept (the search's when both are), else the one covering more
- * of the model's visible surface. With Always, SAC replaces the search (method "sac+icf");
- * when it finds nothing the refinement
+ * points, its pose is refined the same way and measured; the accepted one is kept (the
+ * search's when both are), else the one covering more of the model's visible surface. With
+ * Always, SAC replaces the search (method "sac+icf"); when it finds nothing the refinement
  * starts from the centroid start (model surface centroid on the cluster centroid, no
  * rotation), which is rarely accepted. The model's features are built on first use and cached
  * (cachedSacModel); SAC runs are serialised process-wide (PCL's aligners use rand()).

@@ -76,6 +76,8 @@ void LocalizerParams::validate() const {
     fail("max_instances", max_instances, "must lie in [1, 1000]");
   if (!(max_shared_points >= 0.0 && max_shared_points < 1.0))
     fail("max_shared_points", max_shared_points, "must lie in [0, 1)");
+  if (!(whole_segment_share > 0.0 && whole_segment_share <= 1.0))
+    fail("whole_segment_share", whole_segment_share, "must lie in (0, 1]");
   alternatives.validate();
   if (camera_pose)
     validateRigidTransform(camera_pose->matrix().cast<double>(),
@@ -597,12 +599,19 @@ class HypothesisSearch {
     judge(first);
     std::vector<int> retry;
     for (int k : second) {
-      bool segment_accepted = false;
+      bool segment_accepted = false, segment_whole = false;
+      const double whole = params_.whole_segment_share *
+                           static_cast<double>(clusters_[static_cast<std::size_t>(k)].indices.size());
       for (std::size_t j = 0; j < clusters_.size(); ++j)
-        segment_accepted = segment_accepted || (parents_[j] == k && judged_[j].accepted);
-      if (segment_accepted) {
+        if (parents_[j] == k) {
+          segment_accepted = segment_accepted || judged_[j].accepted;
+          segment_whole = segment_whole || static_cast<double>(clusters_[j].indices.size()) >= whole;
+        }
+      if (segment_accepted || segment_whole) {
         judged_[static_cast<std::size_t>(k)].indices = clusters_[static_cast<std::size_t>(k)];
-        judged_[static_cast<std::size_t>(k)].reason = "not searched: a segment was accepted";
+        judged_[static_cast<std::size_t>(k)].reason =
+            segment_accepted ? "not searched: a segment was accepted"
+                             : "not searched: a segment holds nearly all of it";
       } else
         retry.push_back(k);
     }
@@ -633,8 +642,15 @@ class HypothesisSearch {
   }
 
  private:
-  /** Judges the hypotheses \a which, one per thread (one alone gets every thread). */
-  void judge(const std::vector<int>& which) {
+  /** Judges the hypotheses \a which, one per thread (one alone gets every thread), the
+   * largest first: a large cluster started last would leave the other threads idle at the end
+   * (longest processing time first). Each is judged on one thread into its own slot, so the
+   * order does not change a result. */
+  void judge(std::vector<int> which) {
+    std::stable_sort(which.begin(), which.end(), [&](int a, int b) {
+      return clusters_[static_cast<std::size_t>(a)].indices.size() >
+             clusters_[static_cast<std::size_t>(b)].indices.size();
+    });
     const int m = static_cast<int>(which.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads_) if (m > 1)
     for (int j = 0; j < m; ++j) {

@@ -42,6 +42,7 @@ FieldTable<pcl::icf::IcfParams> icfTable() {
   t["threads"] = PCL_ICF_FIELD(P, int, threads);
   t["exact_candidates"] = PCL_ICF_FIELD(P, std::size_t, exact_candidates);
   t["candidate_points"] = PCL_ICF_FIELD(P, std::size_t, candidate_points);
+  t["check_candidates"] = PCL_ICF_FIELD(P, bool, check_candidates);
   t["coarse_points"] = PCL_ICF_FIELD(P, std::size_t, coarse_points);
   t["fine_iterations"] = PCL_ICF_FIELD(P, int, fine_iterations);
   t["prescreen_share"] = PCL_ICF_FIELD(P, float, global.prescreen_share);
@@ -109,6 +110,7 @@ FieldTable<localization::LocalizerParams> localizerTable() {
   t["gate_max_far_points"] = PCL_ICF_FIELD(P, int, gate_max_far_points);
   t["gate_max_far_fraction"] = PCL_ICF_FIELD(P, double, gate_max_far_fraction);
   t["split_merged"] = PCL_ICF_FIELD(P, bool, split_merged);
+  t["whole_segment_share"] = PCL_ICF_FIELD(P, double, whole_segment_share);
   t["check_turns"] = PCL_ICF_FIELD(P, bool, check_turns);
   t["cluster_tolerance"] = PCL_ICF_FIELD(P, double, segmentation.cluster.tolerance);
   t["min_cluster_size"] = PCL_ICF_FIELD(P, std::size_t, segmentation.cluster.min_size);

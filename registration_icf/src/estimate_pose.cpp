@@ -163,10 +163,16 @@ std::vector<Eigen::Vector3f> pointsNearModel(const IcfModel& model,
 /** The fast strategy's start for the final refinement: the global search's best hypotheses,
  * each refined with exact faces on a subset, the best by the fine kernel. */
 PoseHypothesis fastSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& points,
-                          const Eigen::Vector3f& camera, const IcfParams& params, int threads) {
+                          const Eigen::Vector3f& camera, const IcfParams& params, int threads,
+                          const StartCheck& worth_refining) {
   const std::vector<PoseHypothesis> hypotheses =
       globalSearch(model, points, camera, params.global, params.seed, threads);
   const std::size_t n = std::min(params.exact_candidates, hypotheses.size());
+  // No candidate the caller's check gives a chance: the search's best as it is, unrefined.
+  if (params.check_candidates && worth_refining && n > 0 &&
+      std::none_of(hypotheses.begin(), hypotheses.begin() + static_cast<std::ptrdiff_t>(n),
+                   [&](const PoseHypothesis& h) { return worth_refining(h.scene_to_model); }))
+    return hypotheses.front();
   // One candidate after the other, each on every thread: three candidates on two cores would
   // otherwise take two rounds with one core idle in the second.
   PoseHypothesis best;
@@ -321,7 +327,8 @@ class PoseEstimation {
     const PoseHypothesis h = params_.strategy == SearchStrategy::Thesis
                                  ? thesisSearch(model_, points_, params_.thesis, params_.objective,
                                                 params_.seed, threads_)
-                                 : fastSearch(model_, points_, camera_, params_, threads_);
+                                 : fastSearch(model_, points_, camera_, params_, threads_,
+                                              worth_refining_);
     result.search_score = h.score;
     result.method = params_.strategy == SearchStrategy::Thesis ? "thesis+icf" : "fast+icf";
     return h.scene_to_model;

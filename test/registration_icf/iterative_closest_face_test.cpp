@@ -373,7 +373,7 @@ TEST(IcfParams, CoarseToFineRefinementLandsWhereFullResolutionDoes) {
 // is asked once, with the very start the unchecked run refined from (the pose then stays that
 // start: the refinement and the measure are skipped), the result is Rejected with
 // refinement_skipped, and under Auto the SAC fallback does not run after it; with a guess it
-// is never asked.
+// is never asked. The candidates' check is off here (the next test).
 TEST(IcfParams, StartCheckSkipsOnlyTheRefinementItRefuses) {
   const SyntheticModel box = pcl::icf::synthetic::thesisModel("Box5");
   const auto model = pcl::icf::IcfModel::build(box.mesh);
@@ -384,6 +384,7 @@ TEST(IcfParams, StartCheckSkipsOnlyTheRefinementItRefuses) {
   pcl::icf::IcfParams params;
   params.threads = 1;
   params.fallback = pcl::icf::FallbackPolicy::Off;
+  params.check_candidates = false;
   const Eigen::Vector3f camera = Eigen::Vector3f::Zero();
   const auto plain = pcl::icf::estimatePose(*model, points, camera, params);
   ASSERT_TRUE(plain.accepted());
@@ -431,6 +432,54 @@ TEST(IcfParams, StartCheckSkipsOnlyTheRefinementItRefuses) {
                                              });
   EXPECT_TRUE(asked.empty());
   EXPECT_FALSE(guided.refinement_skipped);
+}
+
+// IcfParams::check_candidates against the global search itself (the oracle: globalSearch's
+// hypotheses, computed apart). A check that refuses everything is asked first with the search's
+// exact_candidates best hypotheses, to the bit as globalSearch gives them, then with the start,
+// which is the best hypothesis unrefined (no exact refinement ran); a check that accepts any one
+// candidate (here only the last) leaves the result as the unchecked run's, to the bit.
+TEST(IcfParams, CandidateCheckSkipsTheExactRefinementOnlyWhenAllAreRefused) {
+  const SyntheticModel box = pcl::icf::synthetic::thesisModel("Box5");
+  const auto model = pcl::icf::IcfModel::build(box.mesh);
+  const Trial t = makeTrial(box, 3101);
+  std::vector<Eigen::Vector3f> points;
+  for (const auto& p : *t.cluster)
+    points.push_back(p.getVector3fMap());
+  pcl::icf::IcfParams params;
+  params.threads = 1;
+  params.fallback = pcl::icf::FallbackPolicy::Off;
+  const Eigen::Vector3f camera = Eigen::Vector3f::Zero();
+  const auto plain = pcl::icf::estimatePose(*model, points, camera, params);
+  const auto hypotheses =
+      pcl::icf::globalSearch(*model, points, camera, params.global, params.seed, params.threads);
+  ASSERT_GE(hypotheses.size(), params.exact_candidates);
+
+  std::vector<Eigen::Isometry3f> asked;
+  const auto refused = pcl::icf::estimatePose(*model, points, camera, params, nullptr, {},
+                                              [&](const Eigen::Isometry3f& start) {
+                                                asked.push_back(start);
+                                                return false;
+                                              });
+  ASSERT_EQ(asked.size(), params.exact_candidates + 1);
+  for (std::size_t i = 0; i < params.exact_candidates; ++i)
+    EXPECT_TRUE(asked[i].isApprox(hypotheses[i].scene_to_model, 0.f)) << "candidate " << i;
+  EXPECT_TRUE(asked.back().isApprox(hypotheses.front().scene_to_model, 0.f));
+  EXPECT_TRUE(refused.refinement_skipped);
+  EXPECT_EQ(refused.status, pcl::icf::IcfStatus::Rejected);
+  EXPECT_TRUE(refused.scene_to_model.isApprox(hypotheses.front().scene_to_model.matrix(), 0.f));
+
+  const Eigen::Isometry3f last = hypotheses[params.exact_candidates - 1].scene_to_model;
+  bool last_seen = false;
+  const auto one_passes = pcl::icf::estimatePose(
+      *model, points, camera, params, nullptr, {}, [&](const Eigen::Isometry3f& start) {
+        last_seen = last_seen || start.isApprox(last, 0.f);
+        return last_seen;
+      });
+  EXPECT_TRUE(last_seen);
+  EXPECT_TRUE(one_passes.object_pose.isApprox(plain.object_pose, 0.f));
+  EXPECT_EQ(one_passes.status, plain.status);
+  EXPECT_FALSE(one_passes.refinement_skipped);
 }
 
 // The seen-through check (AcceptanceParams::max_seen_through) on a view of the box where the

@@ -95,6 +95,13 @@ struct IcfParams {
   /** Points per iteration when refining those candidates (the final refinement uses
    * refinement.max_points). */
   std::size_t candidate_points = 1000;
+  /** With the caller's worth_refining check (estimatePose), the candidates are first checked
+   * as the global search left them: when it refuses every one, none is refined with exact
+   * faces and the search's best is the start as it is (which the same check then refuses:
+   * the cluster's search ends). Most clusters of a real scene are other objects, and their
+   * candidates' exact refinement was a quarter of a frame's time (doc/BENCHMARKS.md, "A budget
+   * per frame"). false: the candidates are always refined. */
+  bool check_candidates = true;
   /** Without a guess, the final refinement first runs on at most this many points (an evenly
    * strided subset) through the whole Tukey schedule, then on refinement.max_points from the
    * smallest radius (coarse to fine: a real cluster of 20-40k points costs 30 full-resolution
@@ -181,7 +188,8 @@ using StartCheck = std::function<bool(const Eigen::Isometry3f& scene_to_model)>;
  * virtual camera at \a camera looking at their centroid, at their own angular spacing.
  *
  * \param worth_refining optional: called with every start pose of a search (the search's best,
- * SAC's) before its final refinement; when it returns false that start is not refined nor
+ * SAC's) before its final refinement, and with the fast search's candidates before their exact
+ * refinement (IcfParams::check_candidates); when it returns false that start is not refined nor
  * measured (IcfResult::refinement_skipped; the start is reported as it is, Rejected), and a
  * refused search start ends the search (no SAC fallback after it). Never called with a guess. The
  * localizer passes its depth verification here (LocalizerParams::refine_min_confidence): most

@@ -95,6 +95,11 @@ struct LocalizerParams {
    * a cluster of its own, besides the whole. */
   bool split_merged = true;
   segmentation::ConvexitySplitParams split;
+  /** A convexity segment holding at least this share of its cluster's points is the cluster
+   * less a fringe: the same hypothesis, so the cluster is not searched again after it (its
+   * segments are judged first, the whole only when none was accepted). 1: the whole is
+   * searched whenever no segment was accepted. */
+  double whole_segment_share = 0.9;
   /** Clusters localised in parallel (0: all cores). The result does not depend on it. */
   int threads = 0;
   /** The camera's pose in the scene's frame (camera -> scene; camera frame x right, y down,

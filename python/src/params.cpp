@@ -112,6 +112,7 @@ FieldTable<localization::LocalizerParams> localizerTable() {
   t["split_merged"] = PCL_ICF_FIELD(P, bool, split_merged);
   t["whole_segment_share"] = PCL_ICF_FIELD(P, double, whole_segment_share);
   t["check_turns"] = PCL_ICF_FIELD(P, bool, check_turns);
+  t["turn_points"] = PCL_ICF_FIELD(P, std::size_t, alternatives.max_points);
   t["cluster_tolerance"] = PCL_ICF_FIELD(P, double, segmentation.cluster.tolerance);
   t["min_cluster_size"] = PCL_ICF_FIELD(P, std::size_t, segmentation.cluster.min_size);
   t["max_cluster_size"] = PCL_ICF_FIELD(P, std::size_t, segmentation.cluster.max_size);

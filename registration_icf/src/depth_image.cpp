@@ -3,10 +3,10 @@
  * SPDX-License-Identifier: BSD-3-Clause
  */
 #include <pcl/icf/depth_image.h>
-#include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_types.h>
 #include <pcl_icf_internal/parameter_check.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -196,23 +196,118 @@ PinholeIntrinsics DepthImage::virtualCamera(const std::vector<Eigen::Vector3f>& 
   return k;
 }
 
+namespace {
+
+/** Exact nearest other point of 2D points by a uniform grid searched in growing rings. Written
+ * here, not taken from PCL: the median spacing needs a few thousand queries over up to a
+ * million points, and building pcl::KdTreeFLANN over them took 0.5 s of a million-point frame's
+ * second (doc/HOSTILE_INPUTS.md); the grid is built in linear time. */
+class NearestOtherGrid {
+ public:
+  explicit NearestOtherGrid(const std::vector<Eigen::Vector2f>& points) : points_(points) {
+    lo_ = hi_ = points.front();
+    for (const auto& p : points) {
+      lo_ = lo_.cwiseMin(p);
+      hi_ = hi_.cwiseMax(p);
+    }
+    const Eigen::Vector2f extent = hi_ - lo_;
+    const double n = static_cast<double>(points.size());
+    // About one point per cell over the box; a line of points (no area) gets cells along it.
+    double cell = std::sqrt(static_cast<double>(extent.x()) * extent.y() / n);
+    if (!(cell > 0.0))
+      cell = std::max(extent.x(), extent.y()) / n;
+    if (!(cell > 0.0)) {
+      cell_ = 0.0;  // every point the same: every distance 0
+      return;
+    }
+    // At most about 4 cells per point, whatever the box's shape.
+    while ((std::floor(extent.x() / cell) + 1.0) * (std::floor(extent.y() / cell) + 1.0) >
+           4.0 * n + 16.0)
+      cell *= 2.0;
+    cell_ = cell;
+    nx_ = static_cast<int>(std::floor(extent.x() / cell)) + 1;
+    ny_ = static_cast<int>(std::floor(extent.y() / cell)) + 1;
+    start_.assign(static_cast<std::size_t>(nx_) * ny_ + 1, 0);
+    cell_of_.resize(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      cell_of_[i] = cellOf(points[i]);
+      ++start_[static_cast<std::size_t>(cell_of_[i].y()) * nx_ + cell_of_[i].x() + 1];
+    }
+    for (std::size_t c = 1; c < start_.size(); ++c)
+      start_[c] += start_[c - 1];
+    order_.resize(points.size());
+    std::vector<std::size_t> fill(start_.begin(), start_.end() - 1);
+    for (std::size_t i = 0; i < points.size(); ++i)
+      order_[fill[static_cast<std::size_t>(cell_of_[i].y()) * nx_ + cell_of_[i].x()]++] = i;
+  }
+
+  /** Squared distance from point \a i to the nearest other point (0 when one coincides). */
+  float nearestOtherSquared(std::size_t i) const {
+    if (cell_ == 0.0)
+      return 0.f;
+    const Eigen::Vector2f& q = points_[i];
+    const Eigen::Vector2i c = cell_of_[i];
+    float best = std::numeric_limits<float>::infinity();
+    const int rings = std::max(nx_, ny_);
+    for (int r = 0; r <= rings; ++r) {
+      for (int y = c.y() - r; y <= c.y() + r; ++y) {
+        if (y < 0 || y >= ny_)
+          continue;
+        const bool edge_row = y == c.y() - r || y == c.y() + r;
+        for (int x = c.x() - r; x <= c.x() + r; x += (edge_row || r == 0) ? 1 : 2 * r) {
+          if (x < 0 || x >= nx_)
+            continue;
+          const std::size_t cell = static_cast<std::size_t>(y) * nx_ + x;
+          for (std::size_t k = start_[cell]; k < start_[cell + 1]; ++k) {
+            const std::size_t j = order_[k];
+            if (j == i)
+              continue;
+            const float dx = points_[j].x() - q.x(), dy = points_[j].y() - q.y();
+            best = std::min(best, dx * dx + dy * dy);
+          }
+        }
+      }
+      // The cells beyond ring r lie at least r cells away from q's; one ring more than that
+      // covers a point whose cell was rounded across a border.
+      const double reach = static_cast<double>(r - 1) * cell_;
+      if (r >= 2 && static_cast<double>(best) <= reach * reach)
+        break;
+    }
+    return best;
+  }
+
+ private:
+  Eigen::Vector2i cellOf(const Eigen::Vector2f& p) const {
+    const int x = static_cast<int>(std::floor((p.x() - lo_.x()) / cell_));
+    const int y = static_cast<int>(std::floor((p.y() - lo_.y()) / cell_));
+    return {std::clamp(x, 0, nx_ - 1), std::clamp(y, 0, ny_ - 1)};
+  }
+
+  const std::vector<Eigen::Vector2f>& points_;
+  Eigen::Vector2f lo_, hi_;
+  double cell_ = 0.0;
+  int nx_ = 1, ny_ = 1;
+  std::vector<std::size_t> start_, order_;
+  std::vector<Eigen::Vector2i> cell_of_;
+};
+
+}  // namespace
+
 float DepthImage::angularSpacing(const std::vector<Eigen::Vector3f>& points, std::size_t sample) {
-  pcl::PointCloud<pcl::PointXYZ>::Ptr tangents(new pcl::PointCloud<pcl::PointXYZ>);
+  std::vector<Eigen::Vector2f> tangents;
+  tangents.reserve(points.size());
   for (const auto& p : points)
     if (inFront(p))
-      tangents->push_back(pcl::PointXYZ(p.x() / p.z(), p.y() / p.z(), 0.f));
-  if (tangents->size() < 2)
+      tangents.emplace_back(p.x() / p.z(), p.y() / p.z());
+  if (tangents.size() < 2)
     return 0.002f;
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(tangents);
+  const NearestOtherGrid grid(tangents);
   const std::size_t stride =
-      std::max<std::size_t>(1, tangents->size() / std::max<std::size_t>(1, sample));
+      std::max<std::size_t>(1, tangents.size() / std::max<std::size_t>(1, sample));
   std::vector<float> spacing;
-  pcl::Indices index(2);
-  std::vector<float> sq(2);
-  for (std::size_t i = 0; i < tangents->size(); i += stride)
-    if (tree.nearestKSearch((*tangents)[i], 2, index, sq) == 2 && sq[1] > 0.f)
-      spacing.push_back(std::sqrt(sq[1]));
+  for (std::size_t i = 0; i < tangents.size(); i += stride)
+    if (const float sq = grid.nearestOtherSquared(i); sq > 0.f)
+      spacing.push_back(std::sqrt(sq));
   if (spacing.empty())
     return 0.002f;
   std::nth_element(spacing.begin(), spacing.begin() + static_cast<long>(spacing.size() / 2),

@@ -6,11 +6,14 @@
 #include "synthetic/synthetic_models.h"
 
 #include <pcl/icf/depth_verification.h>
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_types.h>
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 namespace {
 
@@ -297,6 +300,76 @@ TEST(DepthImage, AnUnorganizedGridLeavesNoPixelEmpty) {
   };
   EXPECT_LT(emptyShare(DepthImage::sceneCamera(plane, 0, 0)), 0.005);
   EXPECT_GT(emptyShare(DepthImage::virtualCamera(plane, DepthImage::angularSpacing(plane))), 0.1);
+}
+
+// DepthImage::angularSpacing (a uniform grid's nearest other point) against PCL's k-d tree,
+// the oracle: the median over the same strided sample of the distance, in tangent space, from
+// each point to its second nearest neighbour in pcl::KdTreeFLANN (the first is itself), points
+// that coincide with another skipped, 0.002 when nothing is left. Equal to float rounding
+// (relative 1e-6) on random, regular, clustered, elongated, duplicated and degenerate clouds.
+float kdTreeAngularSpacing(const std::vector<Eigen::Vector3f>& points, std::size_t sample) {
+  pcl::PointCloud<pcl::PointXYZ>::Ptr tangents(new pcl::PointCloud<pcl::PointXYZ>);
+  for (const auto& p : points)
+    if (p.allFinite() && p.z() > 1e-6f)
+      tangents->push_back(pcl::PointXYZ(p.x() / p.z(), p.y() / p.z(), 0.f));
+  if (tangents->size() < 2)
+    return 0.002f;
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(tangents);
+  const std::size_t stride = std::max<std::size_t>(1, tangents->size() / sample);
+  std::vector<float> spacing;
+  pcl::Indices index(2);
+  std::vector<float> sq(2);
+  for (std::size_t i = 0; i < tangents->size(); i += stride)
+    if (tree.nearestKSearch((*tangents)[i], 2, index, sq) == 2 && sq[1] > 0.f)
+      spacing.push_back(std::sqrt(sq[1]));
+  if (spacing.empty())
+    return 0.002f;
+  std::nth_element(spacing.begin(), spacing.begin() + static_cast<long>(spacing.size() / 2),
+                   spacing.end());
+  return spacing[spacing.size() / 2];
+}
+
+TEST(DepthImage, AngularSpacingMatchesAKdTree) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1.f, 1.f);
+  std::vector<std::pair<std::string, std::vector<Eigen::Vector3f>>> clouds;
+  std::vector<Eigen::Vector3f> random, grid, clustered, line, duplicated, same, mixed;
+  for (int i = 0; i < 20000; ++i)
+    random.emplace_back(0.4f * u(rng), 0.3f * u(rng), 1.f + 0.2f * u(rng));
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x)
+      grid.emplace_back(-0.4f + 0.005f * x, -0.3f + 0.005f * y, 1.2f);
+  for (int i = 0; i < 15000; ++i) {
+    const float cx = i % 3 == 0 ? -0.5f : 0.6f;  // two blobs far apart, one dense
+    const float r = i % 3 == 0 ? 0.2f : 0.01f;
+    clustered.emplace_back(cx + r * u(rng), r * u(rng), 0.9f);
+  }
+  for (int i = 0; i < 5000; ++i)
+    line.emplace_back(0.5f * u(rng), 0.f, 1.f);  // no area: cells along the line
+  duplicated = grid;
+  for (std::size_t i = 0; i < grid.size(); i += 2)
+    duplicated.push_back(grid[i]);  // half the points twice: they are skipped
+  same.assign(100, Eigen::Vector3f(0.1f, 0.2f, 1.f));
+  mixed = random;
+  mixed.emplace_back(std::nanf(""), 0.f, 1.f);
+  mixed.emplace_back(0.f, 0.f, -1.f);   // behind the camera
+  mixed.emplace_back(5.f, -4.f, 0.5f);  // far off: a large, mostly empty box
+  clouds = {{"random", random},
+            {"grid", grid},
+            {"clustered", clustered},
+            {"line", line},
+            {"duplicated", duplicated},
+            {"same point", same},
+            {"with outliers", mixed},
+            {"two points", {{0.f, 0.f, 1.f}, {0.01f, 0.f, 1.f}}},
+            {"one point", {{0.f, 0.f, 1.f}}}};
+  for (const auto& [name, cloud] : clouds)
+    for (const std::size_t sample : {std::size_t{1}, std::size_t{2000}, cloud.size()}) {
+      const float oracle = kdTreeAngularSpacing(cloud, sample);
+      const float spacing = DepthImage::angularSpacing(cloud, sample);
+      EXPECT_NEAR(spacing, oracle, 1e-6f * oracle) << name << ", sample " << sample;
+    }
 }
 
 // A model larger than the scene: a cropped, unorganized cloud of a 2 x 2 cm patch at 0.8 m and

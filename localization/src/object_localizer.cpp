@@ -600,12 +600,14 @@ class HypothesisSearch {
     std::vector<int> retry;
     for (int k : second) {
       bool segment_accepted = false, segment_whole = false;
-      const double whole = params_.whole_segment_share *
-                           static_cast<double>(clusters_[static_cast<std::size_t>(k)].indices.size());
+      const double whole =
+          params_.whole_segment_share *
+          static_cast<double>(clusters_[static_cast<std::size_t>(k)].indices.size());
       for (std::size_t j = 0; j < clusters_.size(); ++j)
         if (parents_[j] == k) {
           segment_accepted = segment_accepted || judged_[j].accepted;
-          segment_whole = segment_whole || static_cast<double>(clusters_[j].indices.size()) >= whole;
+          segment_whole =
+              segment_whole || static_cast<double>(clusters_[j].indices.size()) >= whole;
         }
       if (segment_accepted || segment_whole) {
         judged_[static_cast<std::size_t>(k)].indices = clusters_[static_cast<std::size_t>(k)];

@@ -324,11 +324,11 @@ class PoseEstimation {
       result.method = "sac+icf";
       return sacStart(result);
     }
-    const PoseHypothesis h = params_.strategy == SearchStrategy::Thesis
-                                 ? thesisSearch(model_, points_, params_.thesis, params_.objective,
-                                                params_.seed, threads_)
-                                 : fastSearch(model_, points_, camera_, params_, threads_,
-                                              worth_refining_);
+    const PoseHypothesis h =
+        params_.strategy == SearchStrategy::Thesis
+            ? thesisSearch(model_, points_, params_.thesis, params_.objective, params_.seed,
+                           threads_)
+            : fastSearch(model_, points_, camera_, params_, threads_, worth_refining_);
     result.search_score = h.score;
     result.method = params_.strategy == SearchStrategy::Thesis ? "thesis+icf" : "fast+icf";
     return h.scene_to_model;

@@ -205,12 +205,12 @@ namespace {
 class NearestOtherGrid {
  public:
   explicit NearestOtherGrid(const std::vector<Eigen::Vector2f>& points) : points_(points) {
-    lo_ = hi_ = points.front();
+    Eigen::Vector2f hi = lo_ = points.front();
     for (const auto& p : points) {
       lo_ = lo_.cwiseMin(p);
-      hi_ = hi_.cwiseMax(p);
+      hi = hi.cwiseMax(p);
     }
-    const Eigen::Vector2f extent = hi_ - lo_;
+    const Eigen::Vector2f extent = hi - lo_;
     const double n = static_cast<double>(points.size());
     // About one point per cell over the box; a line of points (no area) gets cells along it.
     double cell = std::sqrt(static_cast<double>(extent.x()) * extent.y() / n);
@@ -227,18 +227,16 @@ class NearestOtherGrid {
     cell_ = cell;
     nx_ = static_cast<int>(std::floor(extent.x() / cell)) + 1;
     ny_ = static_cast<int>(std::floor(extent.y() / cell)) + 1;
+    // Counting sort of the points by cell: cell c holds order_[start_[c] .. start_[c + 1]).
     start_.assign(static_cast<std::size_t>(nx_) * ny_ + 1, 0);
-    cell_of_.resize(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      cell_of_[i] = cellOf(points[i]);
-      ++start_[static_cast<std::size_t>(cell_of_[i].y()) * nx_ + cell_of_[i].x() + 1];
-    }
+    for (const auto& p : points)
+      ++start_[cellIndex(cellOf(p)) + 1];
     for (std::size_t c = 1; c < start_.size(); ++c)
       start_[c] += start_[c - 1];
     order_.resize(points.size());
     std::vector<std::size_t> fill(start_.begin(), start_.end() - 1);
     for (std::size_t i = 0; i < points.size(); ++i)
-      order_[fill[static_cast<std::size_t>(cell_of_[i].y()) * nx_ + cell_of_[i].x()]++] = i;
+      order_[fill[cellIndex(cellOf(points[i]))]++] = i;
   }
 
   /** Squared distance from point \a i to the nearest other point (0 when one coincides). */
@@ -246,7 +244,7 @@ class NearestOtherGrid {
     if (cell_ == 0.0)
       return 0.f;
     const Eigen::Vector2f& q = points_[i];
-    const Eigen::Vector2i c = cell_of_[i];
+    const Eigen::Vector2i c = cellOf(q);
     float best = std::numeric_limits<float>::infinity();
     const int rings = std::max(nx_, ny_);
     for (int r = 0; r <= rings; ++r) {
@@ -257,7 +255,7 @@ class NearestOtherGrid {
         for (int x = c.x() - r; x <= c.x() + r; x += (edge_row || r == 0) ? 1 : 2 * r) {
           if (x < 0 || x >= nx_)
             continue;
-          const std::size_t cell = static_cast<std::size_t>(y) * nx_ + x;
+          const std::size_t cell = cellIndex({x, y});
           for (std::size_t k = start_[cell]; k < start_[cell + 1]; ++k) {
             const std::size_t j = order_[k];
             if (j == i)
@@ -282,13 +280,16 @@ class NearestOtherGrid {
     const int y = static_cast<int>(std::floor((p.y() - lo_.y()) / cell_));
     return {std::clamp(x, 0, nx_ - 1), std::clamp(y, 0, ny_ - 1)};
   }
+  std::size_t cellIndex(const Eigen::Vector2i& c) const {
+    return static_cast<std::size_t>(c.y()) * static_cast<std::size_t>(nx_) +
+           static_cast<std::size_t>(c.x());
+  }
 
   const std::vector<Eigen::Vector2f>& points_;
-  Eigen::Vector2f lo_, hi_;
+  Eigen::Vector2f lo_;
   double cell_ = 0.0;
   int nx_ = 1, ny_ = 1;
   std::vector<std::size_t> start_, order_;
-  std::vector<Eigen::Vector2i> cell_of_;
 };
 
 }  // namespace

@@ -33,6 +33,14 @@ Trial makeTrial(const SyntheticModel& model, std::uint64_t seed) {
   return pcl::icf::synthetic::randomView(model.mesh, seed);
 }
 
+/** The trial's cluster as estimatePose takes it. */
+std::vector<Eigen::Vector3f> trialPoints(const Trial& t) {
+  std::vector<Eigen::Vector3f> points;
+  for (const auto& p : *t.cluster)
+    points.push_back(p.getVector3fMap());
+  return points;
+}
+
 Eigen::Isometry3d toIsometry(const Eigen::Matrix4f& m) {
   return Eigen::Isometry3d(m.cast<double>());
 }
@@ -342,10 +350,7 @@ TEST(IcfParams, CoarseToFineRefinementLandsWhereFullResolutionDoes) {
   const SyntheticModel box = pcl::icf::synthetic::thesisModel("Box5");
   const auto model = pcl::icf::IcfModel::build(box.mesh);
   for (std::uint64_t seed = 3000; seed < 3006; ++seed) {
-    const Trial t = makeTrial(box, seed);
-    std::vector<Eigen::Vector3f> points;
-    for (const auto& p : *t.cluster)
-      points.push_back(p.getVector3fMap());
+    const std::vector<Eigen::Vector3f> points = trialPoints(makeTrial(box, seed));
     pcl::icf::IcfParams full, uncapped;
     full.coarse_points = 0;
     uncapped.coarse_points = 200;
@@ -377,10 +382,7 @@ TEST(IcfParams, CoarseToFineRefinementLandsWhereFullResolutionDoes) {
 TEST(IcfParams, StartCheckSkipsOnlyTheRefinementItRefuses) {
   const SyntheticModel box = pcl::icf::synthetic::thesisModel("Box5");
   const auto model = pcl::icf::IcfModel::build(box.mesh);
-  const Trial t = makeTrial(box, 3100);
-  std::vector<Eigen::Vector3f> points;
-  for (const auto& p : *t.cluster)
-    points.push_back(p.getVector3fMap());
+  const std::vector<Eigen::Vector3f> points = trialPoints(makeTrial(box, 3100));
   pcl::icf::IcfParams params;
   params.threads = 1;
   params.fallback = pcl::icf::FallbackPolicy::Off;
@@ -442,10 +444,7 @@ TEST(IcfParams, StartCheckSkipsOnlyTheRefinementItRefuses) {
 TEST(IcfParams, CandidateCheckSkipsTheExactRefinementOnlyWhenAllAreRefused) {
   const SyntheticModel box = pcl::icf::synthetic::thesisModel("Box5");
   const auto model = pcl::icf::IcfModel::build(box.mesh);
-  const Trial t = makeTrial(box, 3101);
-  std::vector<Eigen::Vector3f> points;
-  for (const auto& p : *t.cluster)
-    points.push_back(p.getVector3fMap());
+  const std::vector<Eigen::Vector3f> points = trialPoints(makeTrial(box, 3101));
   pcl::icf::IcfParams params;
   params.threads = 1;
   params.fallback = pcl::icf::FallbackPolicy::Off;

@@ -14,6 +14,9 @@ At threshold t a pose is reported when confidence >= t. A false pose is a report
 present-wrong case; a missed object is a present case without a reported right pose.
 
 Writes a table (markdown) of the curve to stdout and, with --plot FILE.png, a gnuplot picture.
+With --residual-sweep (rows measured with the residual term off, max_residual infinity), the
+table at the accept threshold 0.875 as the residual factor's fit_residual F moves (max_residual
+2F): each row's confidence times max(0, 1 - (residual - F) / F) beyond F.
 Python's standard library only (Debian's python3), gnuplot for the picture.
 """
 import argparse
@@ -58,16 +61,45 @@ def curve(cases, thresholds):
     return rows
 
 
+def residual_of(terms):
+    for token in terms.split():
+        if token.startswith("residual="):
+            return float(token.split("=", 1)[1])
+    return 0.0
+
+
+def residual_sweep(cases, fits, threshold=0.875):
+    print("| fit_residual (max_residual 2x) | false poses, target absent | wrong poses, target "
+          "present | found (right pose) |")
+    print("|---:|---:|---:|---:|")
+    present = sum(1 for c in cases if c["label"] != "absent")
+    absent = len(cases) - present
+    for fit in fits:
+        kept = {"absent": 0, "wrong": 0, "right": 0}
+        for c in cases:
+            r = residual_of(c["terms"])
+            factor = 1.0 if r <= fit else max(0.0, 1.0 - (r - fit) / fit)
+            if c["confidence"] * factor >= threshold:
+                kept[c["label"]] += 1
+        print(f'| {fit:.2f} | {kept["absent"]}/{absent} | {kept["wrong"]}/{present} | '
+              f'{kept["right"]}/{present} |')
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("csv", nargs="+", help="NAME_cases.csv files of icf-scene runs")
     ap.add_argument("--plot", help="write the curve as a PNG picture (gnuplot)")
     ap.add_argument("--list", action="store_true", help="print every case with its terms")
+    ap.add_argument("--residual-sweep", action="store_true",
+                    help="the table at 0.875 as fit_residual moves (rows measured with it off)")
     args = ap.parse_args()
     cases = read_cases(args.csv)
     if not cases:
         sys.exit("confidence_curve: no icf-scene rows in " + ", ".join(args.csv))
+    if args.residual_sweep:
+        residual_sweep(cases, [1.0, 1.25, 1.5, 1.6, 1.75, 2.0, 2.25, 2.5, 3.0, float("inf")])
+        return
     if args.list:
         for c in sorted(cases, key=lambda c: -c["confidence"]):
             print(f'{c["confidence"]:.3f} {c["label"]:7s} {c["case"]:40s} {c["terms"]}')

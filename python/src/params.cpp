@@ -113,6 +113,8 @@ FieldTable<localization::LocalizerParams> localizerTable() {
   t["whole_segment_share"] = PCL_ICF_FIELD(P, double, whole_segment_share);
   t["check_turns"] = PCL_ICF_FIELD(P, bool, check_turns);
   t["turn_points"] = PCL_ICF_FIELD(P, std::size_t, alternatives.max_points);
+  t["fit_residual"] = PCL_ICF_FIELD(P, double, verification.fit_residual);
+  t["max_residual"] = PCL_ICF_FIELD(P, double, verification.max_residual);
   t["cluster_tolerance"] = PCL_ICF_FIELD(P, double, segmentation.cluster.tolerance);
   t["min_cluster_size"] = PCL_ICF_FIELD(P, std::size_t, segmentation.cluster.min_size);
   t["max_cluster_size"] = PCL_ICF_FIELD(P, std::size_t, segmentation.cluster.max_size);

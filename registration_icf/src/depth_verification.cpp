@@ -45,6 +45,10 @@ void DepthVerificationParams::validate() const {
     fail("max_continuation", max_continuation, "must lie in (0, 1]");
   if (!(full_evidence > 0.0 && full_evidence <= 1.0))
     fail("full_evidence", full_evidence, "must lie in (0, 1]");
+  if (!(fit_residual >= 0.0 && std::isfinite(fit_residual)))
+    fail("fit_residual", fit_residual, "must be finite and not negative");
+  if (!(max_residual > fit_residual))
+    fail("max_residual", max_residual, "must exceed fit_residual (infinity: off)");
 }
 
 namespace {
@@ -592,7 +596,8 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
                                                 : 0.0;
   e.confidence = std::max(0.0, 1.0 - (1.0 - e.visible_support) / params.max_conflict) *
                  std::max(0.0, 1.0 - e.silhouette_continuation / params.max_continuation) *
-                 std::min(1.0, e.supported / params.full_evidence);
+                 std::min(1.0, e.supported / params.full_evidence) *
+                 params.residualFactor(e.residual);
   return e;
 }
 

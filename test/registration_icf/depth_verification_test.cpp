@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 namespace {
@@ -119,6 +120,53 @@ TEST(DepthVerification, TellsARightPoseFromWrongOnes) {
   const DepthExplanation inside = explainDepth(*half, facing.pose.cast<float>(), facing_image);
   EXPECT_GT(inside.silhouette_continuation, 0.3);
   EXPECT_EQ(inside.confidence, 0.0);
+}
+
+// A bigger look-alike: the scan is of a box 2.5 mm larger on every side (14.5 x 9.5 x 5.5 cm)
+// and Box5 is posed at its centre. Each face the camera sees lies 2.5 mm (2.8-3.3 sigma at
+// the faces' depths, 0.74-0.84 m: sigma = 1.4 mm x z^2) behind the measured one along its
+// normal, inside the support tolerance (3 sigma + 1.5% of the 17 cm diameter = 5.2 mm):
+// supported and without conflict, so without the residual term the confidence stays high
+// (above 0.7; the larger box's 2.5 mm rim reaches into the band around the silhouette, a
+// continuation of about 0.05). The residual measures the offset (2.4-3.4 sigma allowed: the
+// range of depths plus the noise); its factor brings the confidence below 0.3 (at 3:
+// 1 - (3 - 1.75) / 1.75 = 0.29). The right pose on the box's own scan keeps residual < 1
+// (the noise, truncated at the tolerance) and the factor 1.
+TEST(DepthVerification, ALargerLookAlikeFitsWithinToleranceButNotWithinTheNoise) {
+  synthetic::ScanNoise noise;
+  noise.seed = 7;
+  const RenderedBox box = renderBox(noise);
+  const IcfModel::ConstPtr model = IcfModel::build(box.model.mesh);
+  const DepthExplanation right =
+      explainDepth(*model, box.pose.cast<float>(), DepthImage(box.points, PinholeIntrinsics()));
+  EXPECT_LT(right.residual, 1.0);
+  DepthVerificationParams off;
+  off.max_residual = std::numeric_limits<double>::infinity();
+  EXPECT_DOUBLE_EQ(right.confidence, explainDepth(*model, box.pose.cast<float>(),
+                                                  DepthImage(box.points, PinholeIntrinsics()), off)
+                                         .confidence);
+
+  const pcl::PolygonMesh larger = synthetic::makeBox(0.145, 0.095, 0.055);
+  synthetic::SceneObject object;
+  object.mesh = &larger;
+  object.pose = box.pose;
+  object.label = 1;
+  const synthetic::Scan scan =
+      synthetic::renderScan({object}, synthetic::CameraIntrinsics(), noise);
+  std::vector<Eigen::Vector3f> points;
+  for (const auto& p : *scan.cloud)
+    points.emplace_back(p.x, p.y, p.z);
+  const DepthImage image(points, PinholeIntrinsics());
+  const DepthExplanation without = explainDepth(*model, box.pose.cast<float>(), image, off);
+  EXPECT_GT(without.supported, 0.85);
+  EXPECT_LT(without.seen_through, 0.005);
+  EXPECT_GT(without.confidence, 0.7);
+  const DepthExplanation with = explainDepth(*model, box.pose.cast<float>(), image);
+  EXPECT_GT(with.residual, 2.4);
+  EXPECT_LT(with.residual, 3.4);
+  EXPECT_LT(with.confidence, 0.3);
+  EXPECT_NEAR(with.confidence,
+              without.confidence * DepthVerificationParams().residualFactor(with.residual), 1e-9);
 }
 
 /** Box5 standing on a table (no outliers): the scan's points, the table's and the box's. */
@@ -460,6 +508,9 @@ TEST(DepthVerification, InvalidParametersNameTheField) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("noise_sigmas"), std::string::npos) << e.what();
   }
+  p = DepthVerificationParams();
+  p.max_residual = p.fit_residual;
+  EXPECT_THROW(p.validate(), std::invalid_argument);
   PinholeIntrinsics k;
   k.fx = -1.f;
   EXPECT_THROW(k.validate(), std::invalid_argument);

@@ -4,6 +4,7 @@
  */
 #include "tool_options.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -158,9 +159,11 @@ bool parseLocalizerOption(const std::string& a, ArgumentReader& args,
   } else if (a == "--gate") {
     args.noValue(a);
     p.far_point_gate = true;
-  } else if (a == "--min-confidence")
+  } else if (a == "--min-confidence") {
     p.min_confidence = parseFraction(a, args.value(a));
-  else if (a == "--max-instances")
+    // A start worth refining cannot need more than an accepted pose (validate's rule).
+    p.refine_min_confidence = std::min(p.refine_min_confidence, p.min_confidence);
+  } else if (a == "--max-instances")
     p.max_instances = static_cast<int>(parseInteger(a, args.value(a), 1, 1000));
   else
     return false;

@@ -19,6 +19,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <vector>
 
 namespace pcl {
@@ -68,12 +69,30 @@ struct DepthVerificationParams {
   /** Share of the model's rendered pixels that must be supported for full evidence; fewer
    * lower the confidence in proportion (a target 25% visible at 0.5 keeps half of it). */
   double full_evidence = 0.5;
+  /** A right pose fits the measured depth about as closely as the sensor measures: its
+   * DepthExplanation::residual (RMS offset in units of sigma(z)) is 0.57-0.86 on the simulated
+   * Kinect scans and 1.25-1.47 on the real YCB-Video frames (the mesh's error and the sensor's
+   * own distortion). A model laid on an object of another size or shape (a 5 cm can posed on
+   * a 4.5 cm one) lies inside the support tolerance but 2-3 sigma off it. Up to fit_residual
+   * the confidence does not depend on the residual; beyond, it falls linearly and reaches 0
+   * at max_residual (infinity: off). Calibrated on 360 cases (doc/BENCHMARKS.md, "How closely
+   * a pose fits"). */
+  double fit_residual = 1.75;
+  double max_residual = 3.5;
 
   /** The support tolerance at depth \a z for a model of \a diameter: noise_sigmas x sigma(z)
    * + size_tolerance x diameter. A measured depth this close to the model's surface (along
    * its normal) supports it. */
   float supportTolerance(float z, float diameter) const {
     return noise_sigmas * noise.sigma(z) + size_tolerance * diameter;
+  }
+
+  /** The confidence's factor for a pose of \a residual (DepthExplanation::residual): 1 up to
+   * fit_residual, falling linearly to 0 at max_residual. */
+  double residualFactor(double residual) const {
+    if (residual <= fit_residual)
+      return 1.0;
+    return std::max(0.0, 1.0 - (residual - fit_residual) / (max_residual - fit_residual));
   }
 
   /** \throws std::invalid_argument naming the field. */
@@ -168,8 +187,8 @@ struct DepthExplanation {
    * does not always stop the growth, so this is reported, not in the confidence). */
   double occluder_continuation = 0.0;
   /** In [0, 1]: max(0, 1 - (1 - visible_support) / max_conflict) x max(0, 1 -
-   * silhouette_continuation / max_continuation) x min(1, supported / full_evidence). What the
-   * localizer ranks and accepts by (doc/localizer.md). */
+   * silhouette_continuation / max_continuation) x min(1, supported / full_evidence) x
+   * residualFactor(residual). What the localizer ranks and accepts by (doc/localizer.md). */
   double confidence = 0.0;
 };
 

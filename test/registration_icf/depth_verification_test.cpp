@@ -137,14 +137,13 @@ TEST(DepthVerification, ALargerLookAlikeFitsWithinToleranceButNotWithinTheNoise)
   noise.seed = 7;
   const RenderedBox box = renderBox(noise);
   const IcfModel::ConstPtr model = IcfModel::build(box.model.mesh);
-  const DepthExplanation right =
-      explainDepth(*model, box.pose.cast<float>(), DepthImage(box.points, PinholeIntrinsics()));
+  const DepthImage own_image(box.points, PinholeIntrinsics());
+  const DepthExplanation right = explainDepth(*model, box.pose.cast<float>(), own_image);
   EXPECT_LT(right.residual, 1.0);
   DepthVerificationParams off;
   off.max_residual = std::numeric_limits<double>::infinity();
-  EXPECT_DOUBLE_EQ(right.confidence, explainDepth(*model, box.pose.cast<float>(),
-                                                  DepthImage(box.points, PinholeIntrinsics()), off)
-                                         .confidence);
+  EXPECT_DOUBLE_EQ(right.confidence,
+                   explainDepth(*model, box.pose.cast<float>(), own_image, off).confidence);
 
   const pcl::PolygonMesh larger = synthetic::makeBox(0.145, 0.095, 0.055);
   synthetic::SceneObject object;

@@ -60,8 +60,8 @@ void LocalizerParams::validate() const {
     intrinsics->validate();
   if (!(min_confidence >= 0.0 && min_confidence <= 1.0))
     fail("min_confidence", min_confidence, "must lie in [0, 1]");
-  if (!(refine_min_confidence >= 0.0 && refine_min_confidence <= min_confidence))
-    fail("refine_min_confidence", refine_min_confidence, "must lie in [0, min_confidence]");
+  if (!(refine_min_confidence >= 0.0 && refine_min_confidence <= 1.0))
+    fail("refine_min_confidence", refine_min_confidence, "must lie in [0, 1]");
   if (!(gate_distance > 0.f) || !std::isfinite(gate_distance))
     fail("gate_distance", gate_distance, "must be positive and finite");
   if (gate_max_far_points < 0)
@@ -347,11 +347,13 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
   IcfParams icf = params.icf;
   icf.threads = icf_threads;
   StartCheck worth_refining;
-  if (params.refine_min_confidence > 0.0)
-    worth_refining = [&](const Eigen::Isometry3f& scene_to_model) {
+  // A start worth refining never needs more than an accepted pose.
+  const double refine_at = std::min(params.refine_min_confidence, params.min_confidence);
+  if (refine_at > 0.0)
+    worth_refining = [&, refine_at](const Eigen::Isometry3f& scene_to_model) {
       return explainDepth(model, scene_to_model.inverse(Eigen::Isometry), image,
                           params.verification)
-                 .confidence >= params.refine_min_confidence;
+                 .confidence >= refine_at;
     };
   c.icf = estimatePose(model, points, kCameraAtOrigin, icf, nullptr, {}, worth_refining);
   if (c.icf.status == IcfStatus::TooFewPoints) {

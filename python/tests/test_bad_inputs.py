@@ -53,6 +53,18 @@ def test_bad_parameters(box_model, params, match):
         pcl_icf.localize(GOOD, box_model, **params)
 
 
+@pytest.mark.parametrize("value", [0.0, 0.005])
+def test_min_confidence_below_refine_min_confidence_is_valid(box_model, demo_scene, value):
+    """A calibration asks for every hypothesis (min_confidence 0, below refine_min_confidence
+    0.01): valid, and the bundled box is still the best, at the default's pose (the same
+    cluster and seeded search; 0.1 mm for float round-off)."""
+    default = pcl_icf.localize(demo_scene.xyz, demo_scene.rgb, box_model)
+    r = pcl_icf.localize(demo_scene.xyz, demo_scene.rgb, box_model, min_confidence=value)
+    assert default.found and r.found
+    assert np.abs(r.best.pose[:3, 3] - default.best.pose[:3, 3]).max() < 1e-4
+    assert r.best.confidence == pytest.approx(default.best.confidence, abs=1e-6)
+
+
 def test_unknown_or_mistyped_keyword(box_model):
     with pytest.raises(TypeError, match="max_instance"):
         pcl_icf.localize(GOOD, box_model, max_instance=2)

@@ -319,11 +319,8 @@ pcl::icf::localization::LocalizerParams sceneParams(const Options& o) {
   pcl::icf::localization::LocalizerParams p;
   p.threads = o.threads;
   p.icf = icfParams(o);
-  if (o.scene_min_confidence) {
+  if (o.scene_min_confidence)
     p.min_confidence = *o.scene_min_confidence;
-    // A start worth refining cannot need more than an accepted pose (validate's rule).
-    p.refine_min_confidence = std::min(p.refine_min_confidence, p.min_confidence);
-  }
   return p;
 }
 

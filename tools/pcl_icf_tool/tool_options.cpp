@@ -161,8 +161,6 @@ bool parseLocalizerOption(const std::string& a, ArgumentReader& args,
     p.far_point_gate = true;
   } else if (a == "--min-confidence") {
     p.min_confidence = parseFraction(a, args.value(a));
-    // A start worth refining cannot need more than an accepted pose (validate's rule).
-    p.refine_min_confidence = std::min(p.refine_min_confidence, p.min_confidence);
   } else if (a == "--max-instances")
     p.max_instances = static_cast<int>(parseInteger(a, args.value(a), 1, 1000));
   else

@@ -59,6 +59,8 @@ struct LocalizerParams {
    * confidence is below this is not given the final refinement, and a refused search start
    * ends that cluster's search (estimatePose's worth_refining): most clusters of a real scene
    * are other objects, whose confidence is 0 before and after it. 0: every start is refined.
+   * Used as min(refine_min_confidence, min_confidence): a start never needs more than an
+   * accepted pose, so min_confidence may be set below it (a calibration at 0).
    * Calibrated (doc/BENCHMARKS.md, "Where the time goes"): at 0.01 every decision and pose of
    * the 160 identification cases is the same as at 0, in 0.54-0.81x of the time; 0.1 is too
    * much: it refuses a touching copy's start at 0.068 that the refinement makes acceptable

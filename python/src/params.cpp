@@ -115,6 +115,9 @@ FieldTable<localization::LocalizerParams> localizerTable() {
   t["turn_points"] = PCL_ICF_FIELD(P, std::size_t, alternatives.max_points);
   t["fit_residual"] = PCL_ICF_FIELD(P, double, verification.fit_residual);
   t["max_residual"] = PCL_ICF_FIELD(P, double, verification.max_residual);
+  t["full_evidence"] = PCL_ICF_FIELD(P, double, verification.full_evidence);
+  t["max_conflict"] = PCL_ICF_FIELD(P, double, verification.max_conflict);
+  t["max_continuation"] = PCL_ICF_FIELD(P, double, verification.max_continuation);
   t["cluster_tolerance"] = PCL_ICF_FIELD(P, double, segmentation.cluster.tolerance);
   t["min_cluster_size"] = PCL_ICF_FIELD(P, std::size_t, segmentation.cluster.min_size);
   t["max_cluster_size"] = PCL_ICF_FIELD(P, std::size_t, segmentation.cluster.max_size);

@@ -39,6 +39,9 @@ def test_bad_rgb(box_model, rgb, match):
 @pytest.mark.parametrize("params, match", [
     (dict(max_instances=0), "max_instances"),
     (dict(min_confidence=1.5), "min_confidence"),
+    (dict(full_evidence=0.0), "full_evidence"),
+    (dict(max_conflict=1.5), "max_conflict"),
+    (dict(max_continuation=-0.1), "max_continuation"),
     (dict(cluster_tolerance=-1.0), "cluster.tolerance"),
     (dict(strategy="fastest"), "strategy"),
     (dict(fallback="sometimes"), "fallback"),

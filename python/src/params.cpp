@@ -167,6 +167,8 @@ FieldTable<pcl::icf::tracking::TrackerParams> trackerTable() {
   t["table_distance"] = PCL_ICF_FIELD(P, float, table_distance);
   t["velocity_gain"] = PCL_ICF_FIELD(P, float, velocity_gain);
   t["search_interval"] = PCL_ICF_FIELD(P, int, search_interval);
+  t["reacquire_margin"] = PCL_ICF_FIELD(P, float, reacquire_margin);
+  t["reacquire_frames"] = PCL_ICF_FIELD(P, int, reacquire_frames);
   t["refine_max_points"] = PCL_ICF_FIELD(P, std::size_t, refinement.max_points);
   return t;
 }

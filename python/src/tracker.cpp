@@ -46,6 +46,10 @@ py::object trackNamespace(const trk::ObjectTrack& o, int index) {
   d["refine_ms"] = o.refine_ms;
   d["verify_ms"] = o.verify_ms;
   d["search_ms"] = o.search_ms;
+  d["reacquire_tried"] = o.reacquire_tried;
+  d["reacquired"] = o.reacquired;
+  d["reacquire_points"] = o.reacquire_points;
+  d["reacquire_ms"] = o.reacquire_ms;
   d["frames_lost"] = o.frames_lost;
   d["message"] = o.message;
   return makeNamespace(d);
@@ -112,7 +116,8 @@ void bindTracker(py::module_& m) {
                       "against the depth.")
       .def(py::init<const py::kwargs&>(),
            "Tracker(**params): every localize() keyword (search and verification) and "
-           "crop_margin, table_distance, velocity_gain, search_interval, refine_max_points; "
+           "crop_margin, table_distance, velocity_gain, search_interval, reacquire_margin, "
+           "reacquire_frames, refine_max_points; "
            "see tracker_defaults().")
       .def("add_object", &Tracker::addObject, py::arg("model"), py::arg("name"),
            "Follow model under name; returns its index in every frame's objects.")

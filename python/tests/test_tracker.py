@@ -90,6 +90,11 @@ def test_bad_arguments_are_named(box_model, demo_scene):
         pcl_icf.Tracker(velocity_gain=-1.0)
     with pytest.raises(ValueError, match="search_interval"):
         pcl_icf.Tracker(search_interval=0)
+    with pytest.raises(ValueError, match="reacquire_margin"):
+        pcl_icf.Tracker(reacquire_margin=-0.1)
+    with pytest.raises(ValueError, match="reacquire_frames"):
+        pcl_icf.Tracker(reacquire_frames=-1)
+    assert pcl_icf.tracker_defaults()["reacquire_frames"] == 30
     tracker = pcl_icf.Tracker()
     tracker.add_object(box_model, "box5")
     with pytest.raises(IndexError, match="object"):

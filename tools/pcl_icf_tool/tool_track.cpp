@@ -71,6 +71,8 @@ json objectJson(const trk::ObjectTrack& o, double metres_per_unit) {
   j["refine_ms"] = o.refine_ms;
   j["verify_ms"] = o.verify_ms;
   j["search_ms"] = o.search_ms;
+  j["reacquired"] = o.reacquired;
+  j["reacquire_ms"] = o.reacquire_ms;
   if (!o.message.empty())
     j["message"] = o.message;
   return j;

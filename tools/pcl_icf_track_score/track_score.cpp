@@ -12,7 +12,8 @@
 //   accurate  frames with a pose within 1 cm / 5 deg (symmetry-aware, synthetic::poseError) over
 //   the
 //             frames the object is present and at least F (default 0.5) visible
-//   hidden    the same over the present frames it is less visible (not a bar)
+//   hidden    the same over the present frames it is less visible (not a bar; each pose given
+//             there beyond 1 cm / 5 deg is listed after the table)
 //   absent    frames with a pose while it is off the table (the bar: 0)
 //   loss      frames from its removal to the first frame without a pose (bar: < 3)
 //   re-found  frames from its return to the first frame with an accurate pose (bar: < 5)
@@ -52,6 +53,8 @@ struct Score {
   std::vector<int> loss, refound;    ///< delays per removal / return; -1: never
   std::vector<double> refine_ms;
   std::vector<std::string> misses;  ///< the scored frames off by more than the bar, and why
+  /** The less visible frames with a pose off by more than the bar (a wrong pose given). */
+  std::vector<std::string> hidden_off;
 };
 
 json readJson(const fs::path& path) {
@@ -179,6 +182,9 @@ std::vector<Score> scoreSequence(const fs::path& dir, const std::string& poses_n
           } else {
             ++s.hidden;
             s.hidden_ok += ok;
+            if (posed && !ok)
+              s.hidden_off.push_back(s.sequence + " " + name + " frame " + std::to_string(f) +
+                                     " (visible " + fixed(visible, 2) + "): " + off);
           }
         }
         was_present = present;
@@ -287,6 +293,7 @@ int main(int argc, char** argv) {
       total.refound.insert(total.refound.end(), s.refound.begin(), s.refound.end());
       total.refine_ms.insert(total.refine_ms.end(), s.refine_ms.begin(), s.refine_ms.end());
       total.misses.insert(total.misses.end(), s.misses.begin(), s.misses.end());
+      total.hidden_off.insert(total.hidden_off.end(), s.hidden_off.begin(), s.hidden_off.end());
     }
     const double rate = total.scored ? static_cast<double>(total.accurate) / total.scored : 0.0;
     const bool accurate = rate >= 0.99, lost = within(total.loss, kLossBar),
@@ -298,6 +305,8 @@ int main(int argc, char** argv) {
                 delays(total.refound).c_str(), median(total.refine_ms));
     for (const auto& miss : total.misses)
       std::printf("missed: %s\n", miss.c_str());
+    for (const auto& off : total.hidden_off)
+      std::printf("posed beyond 1 cm / 5 deg while less visible: %s\n", off.c_str());
     std::printf("whole frame: median %.1f ms over %zu frames\n", median(frame_ms), frame_ms.size());
     std::printf(
         "bars: accurate >= 99%%: %s; loss within %d frames: %s; re-found within %d: %s; no pose "

@@ -2,6 +2,7 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
+#include <pcl/icf/global_search.h>
 #include <pcl/icf/rigid_transform.h>
 #include <pcl/icf/tracking/object_tracker.h>
 #include <pcl/icf/usable_point.h>
@@ -28,6 +29,30 @@ using Clock = std::chrono::steady_clock;
 
 double msSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+/** The usable points of \a view that are neither the table's nor marked in \a skip (when
+ * given) inside \a model's bounding box at \a model_to_camera grown by \a margin on every
+ * side: tighter than a sphere beside a neighbour (a tall cup's sphere reaches a box beside
+ * it). */
+std::vector<Eigen::Vector3f> pointsInGrownBox(const internal::SceneView& view,
+                                              const std::vector<bool>& table,
+                                              const std::vector<char>* skip, const IcfModel& model,
+                                              const Eigen::Isometry3f& model_to_camera,
+                                              float margin) {
+  const Eigen::Isometry3f to_model = model_to_camera.inverse(Eigen::Isometry);
+  const Eigen::Vector3f lo = model.mesh().boundsMin() - Eigen::Vector3f::Constant(margin);
+  const Eigen::Vector3f hi = model.mesh().boundsMax() + Eigen::Vector3f::Constant(margin);
+  std::vector<Eigen::Vector3f> inside;
+  for (std::size_t i = 0; i < view.points.size(); ++i) {
+    const Eigen::Vector3f& p = view.points[i];
+    if (table[i] || (skip && (*skip)[i] != 0) || !isUsablePoint(p))
+      continue;
+    const Eigen::Vector3f x = to_model * p;
+    if ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all())
+      inside.push_back(p);
+  }
+  return inside;
 }
 
 }  // namespace
@@ -66,6 +91,10 @@ void TrackerParams::validate() const {
     fail("velocity_gain", velocity_gain, "must lie in [0, 1]");
   if (search_interval < 1)
     fail("search_interval", search_interval, "must be >= 1");
+  if (!(reacquire_margin >= 0.f) || !std::isfinite(reacquire_margin))
+    fail("reacquire_margin", reacquire_margin, "must be finite and >= 0");
+  if (reacquire_frames < 0)
+    fail("reacquire_frames", reacquire_frames, "must be >= 0");
 }
 
 ObjectTracker::ObjectTracker(const TrackerParams& params) : params_(params) {
@@ -91,6 +120,7 @@ void ObjectTracker::setPose(int object, const Eigen::Isometry3f& model_to_camera
                          "[pcl::icf::tracking::ObjectTracker::setPose] the pose");
   Object& o = objects_[static_cast<std::size_t>(object)];
   o.last = model_to_camera;
+  o.last_seen = model_to_camera;
   o.previous.reset();
   o.ever_found = true;
   o.frames_lost = 0;
@@ -101,6 +131,7 @@ void ObjectTracker::reset() {
     o.ever_found = false;
     o.last.reset();
     o.previous.reset();
+    o.last_seen.reset();
     o.frames_lost = 0;
   }
   plane_.reset();
@@ -154,22 +185,9 @@ bool ObjectTracker::refine(const FrameView& view, const DepthImage& image,
     const Eigen::Vector3f c_pred = c_last + params_.velocity_gain * (c_last - c_prev);
     predicted.translation() = c_pred - predicted.linear() * centre;
   }
-  // The points inside the model's bounding box at the predicted pose, grown by crop_margin
-  // (tighter than a sphere beside a neighbour: a tall cup's sphere reaches a box beside it).
-  const Eigen::Isometry3f to_model = predicted.inverse();
-  const Eigen::Vector3f lo =
-      object.model->mesh().boundsMin() - Eigen::Vector3f::Constant(params_.crop_margin);
-  const Eigen::Vector3f hi =
-      object.model->mesh().boundsMax() + Eigen::Vector3f::Constant(params_.crop_margin);
-  std::vector<Eigen::Vector3f> near;
-  for (std::size_t i = 0; i < view.points.size(); ++i) {
-    const Eigen::Vector3f& p = view.points[i];
-    if (table[i] || !isUsablePoint(p))
-      continue;
-    const Eigen::Vector3f x = to_model * p;
-    if ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all())
-      near.push_back(p);
-  }
+  // The points near the prediction (its box grown by crop_margin).
+  const std::vector<Eigen::Vector3f> near =
+      pointsInGrownBox(view, table, nullptr, *object.model, predicted, params_.crop_margin);
   out.refined = true;
   out.refine_points = static_cast<int>(near.size());
   if (near.size() < 10) {
@@ -200,6 +218,84 @@ bool ObjectTracker::refine(const FrameView& view, const DepthImage& image,
     return false;
   }
   object.previous = object.last;
+  object.last = pose;
+  out.message.clear();
+  return true;
+}
+
+/** Re-acquisition (TrackerParams::reacquire_margin): the points inside the model's bounding
+ * box at its last accepted pose, grown by reacquire_margin, that are neither the table's nor
+ * explained by the other objects' poses, searched without a guess (globalSearch, as for one
+ * cluster); each distinct hypothesis is refined (refinePose) and verified against the depth
+ * image (explainDepth, as a refinement's pose), and the most confident is accepted at
+ * min_confidence. It skips the whole-scene search's segmentation and its search of every other
+ * segment: an object put back near where it left is found in tens of milliseconds instead of
+ * hundreds (doc/BENCHMARKS.md, Tracking). */
+bool ObjectTracker::reacquire(const FrameView& view, const DepthImage& image,
+                              const std::vector<bool>& table, const std::vector<int>& explained,
+                              Object& object, ObjectTrack& out) const {
+  const auto start = Clock::now();
+  out.reacquire_tried = true;
+  std::vector<char> skip(view.points.size(), 0);
+  for (const int i : explained)
+    skip[static_cast<std::size_t>(i)] = 1;
+  const std::vector<Eigen::Vector3f> near = pointsInGrownBox(
+      view, table, &skip, *object.model, *object.last_seen, params_.reacquire_margin);
+  out.reacquire_points = static_cast<int>(near.size());
+  if (near.size() < 10) {
+    out.message =
+        "re-acquisition: too few points near the last pose (" + std::to_string(near.size()) + ")";
+    out.reacquire_ms = msSince(start);
+    return false;
+  }
+  // The depth image as the search's: the other objects' points are explained background, so
+  // a neighbour touching the object does not read as its silhouette carrying on.
+  DepthImage marked = image;
+  marked.markExplained(view.points, explained);
+  const auto& lp = params_.localizer;
+  const int threads = lp.threads > 0 ? lp.threads : omp_get_num_procs();
+  // Every distinct hypothesis of the global search is refined and verified, not only the one
+  // the search ranks first: on a third of a box, a pose slid along its seen face fits the
+  // points as well as the right one, and only the depth image (what it would see through)
+  // tells them apart.
+  const std::vector<PoseHypothesis> hypotheses = globalSearch(
+      *object.model, near, Eigen::Vector3f::Zero(), lp.icf.global, lp.icf.seed, threads);
+  const int n = static_cast<int>(hypotheses.size());
+  std::vector<Eigen::Isometry3f> poses(hypotheses.size());
+  std::vector<DepthExplanation> explanations(hypotheses.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (n > 1)
+  for (int h = 0; h < n; ++h) {
+    const std::size_t i = static_cast<std::size_t>(h);
+    const RefinementResult r = refinePose(object.model->index(), near, hypotheses[i].scene_to_model,
+                                          params_.refinement, 1);
+    poses[i] = r.scene_to_model.inverse(Eigen::Isometry);
+    explanations[i] = explainDepth(*object.model, poses[i], marked, lp.verification);
+  }
+  out.reacquire_ms = msSince(start);
+  if (hypotheses.empty()) {
+    out.message = "re-acquisition: the search near the last pose gave no hypothesis";
+    return false;
+  }
+  // The most confident; the search's order breaks ties (it is deterministic).
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < explanations.size(); ++i)
+    if (explanations[i].confidence > explanations[best].confidence)
+      best = i;
+  out.verification = explanations[best];
+  out.confidence = out.verification.confidence;
+  if (out.confidence < lp.min_confidence) {
+    std::ostringstream msg;
+    msg << "re-acquisition near the last pose: the best of " << n << " hypotheses has confidence "
+        << out.confidence << ", below " << lp.min_confidence << " ("
+        << 100.0 * out.verification.visible_support << "% of the visible model explained, "
+        << 100.0 * out.verification.supported << "% of it supported, "
+        << 100.0 * out.verification.seen_through << "% seen through)";
+    out.message = msg.str();
+    return false;
+  }
+  const Eigen::Isometry3f pose = poses[best];
+  out.reacquired = true;
+  object.previous.reset();
   object.last = pose;
   out.message.clear();
   return true;
@@ -305,10 +401,21 @@ TrackedFrame ObjectTracker::track(const pcl::PointCloud<PointT>& frame) {
     ObjectTrack& out = outs[k];
     bool ok = refined_ok[k] != 0;
     bool by_search = false;
-    // A failed refinement searches at once (occlusion, a fast move); a lost object every
-    // search_interval frames.
-    if (!ok && (out.refined || object.frames_lost % params_.search_interval == 0)) {
-      ok = search(frame, view, object, explainedByOthers(view, image, table, k, refined_ok), out);
+    // A failed refinement re-acquires near the last pose, then searches, at once (occlusion, a
+    // fast move); a lost object is re-acquired every frame for reacquire_frames frames, and
+    // searched every search_interval frames.
+    const bool may_search = out.refined || object.frames_lost % params_.search_interval == 0;
+    const bool may_reacquire = object.last_seen && params_.reacquire_frames > 0 &&
+                               (out.refined || object.frames_lost < params_.reacquire_frames);
+    if (!ok && (may_search || may_reacquire)) {
+      const std::vector<int> explained = explainedByOthers(view, image, table, k, refined_ok);
+      if (may_reacquire) {
+        if (image.empty())
+          image = depthImage(view, table);
+        ok = reacquire(view, image, table, explained, object, out);
+      }
+      if (!ok && may_search)
+        ok = search(frame, view, object, explained, out);
       by_search = ok;
     }
     if (ok) {
@@ -317,6 +424,7 @@ TrackedFrame ObjectTracker::track(const pcl::PointCloud<PointT>& frame) {
                                         : TrackState::Found;
       object.ever_found = true;
       object.frames_lost = 0;
+      object.last_seen = object.last;
       out.pose = view.camera_to_scene * *object.last;
     } else {
       object.last.reset();

@@ -60,6 +60,7 @@ def main():
     models = {}
     for manifest in args.manifests:
         times = {name: [] for name in names}
+        segmentation = {name: [] for name in names}
         found = {name: 0 for name in names}
         right = {name: 0 for name in names}
         false = {name: 0 for name in names}
@@ -74,6 +75,7 @@ def main():
                 r = pcl_icf.localize(scene.xyz, scene.rgb, models[model_path],
                                      threads=args.threads, **kw)
                 times[name].append(r.timing["registration_ms"])
+                segmentation[name].append(r.timing["segmentation_ms"])
                 pose = np.array(r.best.pose) if r.found else None
                 poses[name] = pose
                 if r.found:
@@ -89,7 +91,8 @@ def main():
             ratio = statistics.median(times[names[0]]) / statistics.median(times[name])
             print(f"  {name:>12}: found {found[name]}, origin within 1 cm {right[name]}, "
                   f"false {false[name]}, median {statistics.median(times[name]):.0f} ms "
-                  f"({ratio:.2f}x the first), decisions unlike the first: {len(differ[name])}"
+                  f"({ratio:.2f}x the first; segmentation "
+                  f"{statistics.median(segmentation[name]):.0f} ms apart), decisions unlike the first: {len(differ[name])}"
                   + (f" {differ[name]}" if differ[name] else ""), flush=True)
 
 

@@ -169,6 +169,8 @@ FieldTable<pcl::icf::tracking::TrackerParams> trackerTable() {
   t["search_interval"] = PCL_ICF_FIELD(P, int, search_interval);
   t["reacquire_margin"] = PCL_ICF_FIELD(P, float, reacquire_margin);
   t["reacquire_frames"] = PCL_ICF_FIELD(P, int, reacquire_frames);
+  t["reacquire_shift"] = PCL_ICF_FIELD(P, float, reacquire_shift);
+  t["reacquire_full_evidence"] = PCL_ICF_FIELD(P, double, reacquire_full_evidence);
   t["refine_max_points"] = PCL_ICF_FIELD(P, std::size_t, refinement.max_points);
   return t;
 }

@@ -26,7 +26,8 @@ void applyIcfKwargs(pcl::icf::IcfParams& params, const py::kwargs& kwargs);
 
 /** \brief The same for the Tracker's TrackerParams: every localize() keyword (the search and
  * the verification) and the tracker's own (crop_margin, table_distance, velocity_gain,
- * search_interval, reacquire_margin, reacquire_frames, refine_max_points). */
+ * search_interval, reacquire_margin, reacquire_frames,
+ * reacquire_shift, reacquire_full_evidence, refine_max_points). */
 void applyTrackerKwargs(pcl::icf::tracking::TrackerParams& params, const py::kwargs& kwargs);
 
 /** \brief Every keyword Tracker() takes, with its C++ default. */

@@ -117,7 +117,7 @@ void bindTracker(py::module_& m) {
       .def(py::init<const py::kwargs&>(),
            "Tracker(**params): every localize() keyword (search and verification) and "
            "crop_margin, table_distance, velocity_gain, search_interval, reacquire_margin, "
-           "reacquire_frames, refine_max_points; "
+           "reacquire_frames, reacquire_shift, reacquire_full_evidence, refine_max_points; "
            "see tracker_defaults().")
       .def("add_object", &Tracker::addObject, py::arg("model"), py::arg("name"),
            "Follow model under name; returns its index in every frame's objects.")

@@ -94,7 +94,12 @@ def test_bad_arguments_are_named(box_model, demo_scene):
         pcl_icf.Tracker(reacquire_margin=-0.1)
     with pytest.raises(ValueError, match="reacquire_frames"):
         pcl_icf.Tracker(reacquire_frames=-1)
+    with pytest.raises(ValueError, match="reacquire_shift"):
+        pcl_icf.Tracker(reacquire_shift=2.0)
+    with pytest.raises(ValueError, match="reacquire_full_evidence"):
+        pcl_icf.Tracker(reacquire_full_evidence=0.0)
     assert pcl_icf.tracker_defaults()["reacquire_frames"] == 30
+    assert pcl_icf.tracker_defaults()["reacquire_full_evidence"] == pytest.approx(0.35)
     tracker = pcl_icf.Tracker()
     tracker.add_object(box_model, "box5")
     with pytest.raises(IndexError, match="object"):

@@ -95,6 +95,10 @@ void TrackerParams::validate() const {
     fail("reacquire_margin", reacquire_margin, "must be finite and >= 0");
   if (reacquire_frames < 0)
     fail("reacquire_frames", reacquire_frames, "must be >= 0");
+  if (!(reacquire_shift >= 0.f && reacquire_shift <= 1.f))
+    fail("reacquire_shift", reacquire_shift, "must lie in [0, 1]");
+  if (!(reacquire_full_evidence > 0.0 && reacquire_full_evidence <= 1.0))
+    fail("reacquire_full_evidence", reacquire_full_evidence, "must lie in (0, 1]");
 }
 
 ObjectTracker::ObjectTracker(const TrackerParams& params) : params_(params) {
@@ -223,6 +227,35 @@ bool ObjectTracker::refine(const FrameView& view, const DepthImage& image,
   return true;
 }
 
+namespace {
+
+/** The registration starts (scene -> model) of \a hypotheses, each followed by its copies
+ * moved by +-shift x the model's bounding-box extent along each of the box's three axes (the
+ * model slid along them): where most of an object is hidden, the search places the model on
+ * the centroid of what shows, and the right pose lies towards the hidden side, beyond the
+ * refinement's reach (doc/BENCHMARKS.md, "Re-acquisition near the last pose"). shift 0: the
+ * hypotheses alone. */
+std::vector<Eigen::Isometry3f> startsWithShifts(const std::vector<PoseHypothesis>& hypotheses,
+                                                const IcfModel& model, float shift) {
+  std::vector<Eigen::Isometry3f> starts;
+  const Eigen::Vector3f extent = model.mesh().boundsMax() - model.mesh().boundsMin();
+  for (const PoseHypothesis& h : hypotheses) {
+    starts.push_back(h.scene_to_model);
+    if (shift <= 0.f)
+      continue;
+    for (int axis = 0; axis < 3; ++axis)
+      for (const float sign : {-1.f, 1.f}) {
+        // Moving the model by d in its own frame moves scene -> model by -d.
+        Eigen::Isometry3f moved = h.scene_to_model;
+        moved.pretranslate(-sign * shift * extent[axis] * Eigen::Vector3f::Unit(axis));
+        starts.push_back(moved);
+      }
+  }
+  return starts;
+}
+
+}  // namespace
+
 /** Re-acquisition (TrackerParams::reacquire_margin): the points inside the model's bounding
  * box at its last accepted pose, grown by reacquire_margin, that are neither the table's nor
  * explained by the other objects' poses, searched without a guess (globalSearch, as for one
@@ -258,21 +291,25 @@ bool ObjectTracker::reacquire(const FrameView& view, const DepthImage& image,
   // the search ranks first: on a third of a box, a pose slid along its seen face fits the
   // points as well as the right one, and only the depth image (what it would see through)
   // tells them apart.
-  const std::vector<PoseHypothesis> hypotheses = globalSearch(
-      *object.model, near, Eigen::Vector3f::Zero(), lp.icf.global, lp.icf.seed, threads);
-  const int n = static_cast<int>(hypotheses.size());
-  std::vector<Eigen::Isometry3f> poses(hypotheses.size());
-  std::vector<DepthExplanation> explanations(hypotheses.size());
+  const std::vector<Eigen::Isometry3f> starts =
+      startsWithShifts(globalSearch(*object.model, near, Eigen::Vector3f::Zero(), lp.icf.global,
+                                    lp.icf.seed, threads),
+                       *object.model, params_.reacquire_shift);
+  const int n = static_cast<int>(starts.size());
+  DepthVerificationParams verification = lp.verification;
+  verification.full_evidence = params_.reacquire_full_evidence;
+  std::vector<Eigen::Isometry3f> poses(starts.size());
+  std::vector<DepthExplanation> explanations(starts.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (n > 1)
   for (int h = 0; h < n; ++h) {
     const std::size_t i = static_cast<std::size_t>(h);
-    const RefinementResult r = refinePose(object.model->index(), near, hypotheses[i].scene_to_model,
-                                          params_.refinement, 1);
+    const RefinementResult r =
+        refinePose(object.model->index(), near, starts[i], params_.refinement, 1);
     poses[i] = r.scene_to_model.inverse(Eigen::Isometry);
-    explanations[i] = explainDepth(*object.model, poses[i], marked, lp.verification);
+    explanations[i] = explainDepth(*object.model, poses[i], marked, verification);
   }
   out.reacquire_ms = msSince(start);
-  if (hypotheses.empty()) {
+  if (starts.empty()) {
     out.message = "re-acquisition: the search near the last pose gave no hypothesis";
     return false;
   }

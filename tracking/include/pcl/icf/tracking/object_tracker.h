@@ -84,15 +84,27 @@ struct TrackerParams {
    * accepted pose grown by reacquire_margin on every side, leaving out the table and the
    * points the other objects' poses explain (the global search without a guess, each
    * hypothesis refined and verified as a tracked pose is, accepted at min_confidence). Only
-   * when that fails is the whole scene searched. On the generated sequences it re-finds 3 of
-   * the 5 returned objects, in 35-52 ms frames instead of 150-340 ms searches
-   * (doc/BENCHMARKS.md, Tracking). The margin bounds how far the object may have moved while
+   * when that fails is the whole scene searched. On 25 generated sequences it costs 57 ms
+   * median (90th percentile 155 ms) against 230-370 ms for a search (doc/BENCHMARKS.md,
+   * Tracking). The margin bounds how far the object may have moved while
    * lost: 0.1 m is 3 mm a frame for a second at 30 Hz, or a hand's move of a few
    * centimetres and back. */
   float reacquire_margin = 0.1f;
   /** Frames after a loss during which re-acquisition is tried (0: never; then a failed
    * refinement goes straight to the search, as before). */
   int reacquire_frames = 30;
+  /** Re-acquisition also starts the refinement from each hypothesis moved by +-reacquire_shift
+   * x the model's bounding-box extent along each box axis (0: the hypotheses alone): an object
+   * put back is often mostly hidden, and on the third of it that shows the search's pose
+   * slides along the seen face, beyond the refinement's reach. */
+  float reacquire_shift = 0.5f;
+  /** The share of a re-acquired pose's rendered pixels that must be supported for full
+   * evidence (DepthVerificationParams::full_evidence; 0.4 for a search without a prior): the
+   * object was seen there moments ago. Calibrated on 25 generated sequences (doc/BENCHMARKS.md,
+   * "Re-acquisition of a mostly hidden object"): 0.4 re-finds a box put back 28% visible after
+   * 6 frames, 0.35 after 4, 0.3 after 3 but with a pose 7 mm / 5.7 degrees off elsewhere; no
+   * value poses an absent object. */
+  double reacquire_full_evidence = 0.35;
 
   /** \throws std::invalid_argument naming the field and value. */
   void validate() const;

@@ -216,6 +216,28 @@ SyntheticModel thesisModel(const std::string& name) {
   return model;
 }
 
+SyntheticModel suiteModel(const std::string& name) {
+  const Eigen::Vector3f red(0.80f, 0.12f, 0.10f), blue(0.10f, 0.25f, 0.80f);
+  SyntheticModel m;
+  m.name = name;
+  if (name == "LargeBox") {
+    m.mesh = makeBox(0.20, 0.12, 0.08);
+    m.symmetry = Symmetry::box(0.20, 0.12, 0.08);
+  } else if (name == "TallCylinder" || name == "WideCylinder") {
+    const bool tall = name == "TallCylinder";
+    m.mesh = makeCylinder(tall ? 0.035 : 0.05, tall ? 0.16 : 0.10, 32);
+    m.symmetry = Symmetry::cylinder(true);
+    m.rgb = red;
+  } else if (name == "OtherBox") {
+    m.mesh = makeBox(0.16, 0.06, 0.10);
+    m.symmetry = Symmetry::box(0.16, 0.06, 0.10);
+    m.rgb = blue;
+  } else {
+    return thesisModel(name);
+  }
+  return m;
+}
+
 std::vector<std::string> thesisModelNames() {
   return {"Box5", "EisKaffe", "YellowRoundSalt", "Amicelly"};
 }

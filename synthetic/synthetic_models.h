@@ -92,6 +92,15 @@ struct SyntheticModel {
  *  \throws std::invalid_argument for any other name. */
 SyntheticModel thesisModel(const std::string& name);
 
+/** \brief A model of the generated suites by name: the thesis's models and distractors
+ *  (thesisModel), and the shapes made for the suites: LargeBox (scenario 2's "another
+ *  rectangular shaped object", 20 x 12 x 8 cm), TallCylinder (r 3.5 cm, h 16 cm, red),
+ *  WideCylinder (its decoy: shorter and wider, r 5 cm, h 10 cm, red too) and OtherBox (Box5's
+ *  decoy: 16 x 6 x 10 cm, Box5's blue). The decoys carry their target's colour, so colour
+ *  cannot tell them apart.
+ *  \throws std::invalid_argument for any other name. */
+SyntheticModel suiteModel(const std::string& name);
+
 /** \brief The four thesis models: Box5, EisKaffe, YellowRoundSalt, Amicelly. */
 std::vector<std::string> thesisModelNames();
 

@@ -53,6 +53,7 @@ FieldTable<pcl::icf::IcfParams> icfTable() {
   t["max_seen_through"] = PCL_ICF_FIELD(P, double, acceptance.max_seen_through);
   t["rotations"] = PCL_ICF_FIELD(P, std::size_t, global.rotations);
   t["keep"] = PCL_ICF_FIELD(P, std::size_t, global.keep);
+  t["distinct_surface"] = PCL_ICF_FIELD(P, float, global.distinct_surface);
   t["max_points"] = PCL_ICF_FIELD(P, std::size_t, refinement.max_points);
   t["strategy"] = {[](P& p, const py::handle& v) {
                      p.strategy = pcl::icf::parseSearchStrategy(v.cast<std::string>());

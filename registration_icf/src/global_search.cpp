@@ -53,6 +53,8 @@ void GlobalSearchParams::validate() const {
     fail("max_anchors", static_cast<double>(max_anchors), "must lie in [1, 1e5]");
   if (!(distinct_rotation >= 0.f) || !(distinct_translation >= 0.f))
     fail("distinct_*", -1, "must be >= 0");
+  if (!(distinct_surface >= 0.f && distinct_surface <= 1.f))
+    fail("distinct_surface", distinct_surface, "must lie in [0, 1]");
   field_refinement.validate();
 }
 
@@ -242,6 +244,28 @@ bool isDistinct(const PoseHypothesis& h, const std::vector<PoseHypothesis>& kept
   return true;
 }
 
+/** True when \a h puts the model's surface where one of \a kept does: the model's first
+ * (up to) 64 surface samples, each moved from its place at pose h to where pose k puts the same
+ * model point, lie on average within \a distance of the model's surface (the closest-point
+ * field). Model point p is at scene point h^-1 p, which k maps to k h^-1 p. Unlike
+ * isDistinct, this sees a symmetric model's turns as the pose they are. */
+bool coversTheSameSurface(const IcfModel& model, const PoseHypothesis& h,
+                          const std::vector<PoseHypothesis>& kept, float distance) {
+  const std::vector<SurfaceSample>& samples = model.samples();
+  const std::size_t n = std::min<std::size_t>(64, samples.size());
+  if (n == 0 || distance <= 0.f)
+    return false;
+  for (const PoseHypothesis& k : kept) {
+    const Eigen::Isometry3f moved = k.scene_to_model * h.scene_to_model.inverse();
+    double sum = 0.0;
+    for (std::size_t i = 0; i < n; ++i)
+      sum += model.field().distance(moved * samples[i * samples.size() / n].point);
+    if (sum < static_cast<double>(distance) * static_cast<double>(n))
+      return true;
+  }
+  return false;
+}
+
 /** The cascade's second stage: the best prescreen_share of \a coarse by their prescreen
  * score (at least 20 x keep; ties by index) scored again on their anchor's whole subsample;
  * the rest drop below every one of them. */
@@ -321,10 +345,12 @@ std::vector<PoseHypothesis> coarsePass(const IcfModel& model,
 
 /** The best params.keep of \a coarse, best first (ties by index), each distinct from those kept
  * before it; \a kept_anchor receives their anchors. */
-std::vector<PoseHypothesis> bestDistinct(const std::vector<PoseHypothesis>& coarse,
+std::vector<PoseHypothesis> bestDistinct(const IcfModel& model,
+                                         const std::vector<PoseHypothesis>& coarse,
                                          const std::vector<std::size_t>& anchor_of,
                                          const GlobalSearchParams& params,
                                          std::vector<std::size_t>& kept_anchor) {
+  const float surface = params.distinct_surface * model.radius();
   std::vector<std::size_t> order(coarse.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),
@@ -333,7 +359,8 @@ std::vector<PoseHypothesis> bestDistinct(const std::vector<PoseHypothesis>& coar
   for (std::size_t i : order) {
     if (kept.size() >= params.keep)
       break;
-    if (isDistinct(coarse[i], kept, params.distinct_rotation, params.distinct_translation)) {
+    if (isDistinct(coarse[i], kept, params.distinct_rotation, params.distinct_translation) &&
+        !coversTheSameSurface(model, coarse[i], kept, surface)) {
       kept.push_back(coarse[i]);
       kept_anchor.push_back(anchor_of[i]);
     }
@@ -381,7 +408,7 @@ std::vector<PoseHypothesis> globalSearch(const IcfModel& model,
   std::vector<std::size_t> anchor_of, kept_anchor;
   const std::vector<PoseHypothesis> coarse =
       coarsePass(model, anchors, view, params, seed, threads, anchor_of);
-  std::vector<PoseHypothesis> kept = bestDistinct(coarse, anchor_of, params, kept_anchor);
+  std::vector<PoseHypothesis> kept = bestDistinct(model, coarse, anchor_of, params, kept_anchor);
   refineOnField(model, anchors, kept_anchor, params, threads, kept);
   return kept;
 }

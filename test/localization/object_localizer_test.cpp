@@ -4,6 +4,7 @@
 // the YCB-Video frame, whose four objects touch and merge into one cluster.
 #include "synthetic/depth_camera.h"
 #include "synthetic/pose_error.h"
+#include "synthetic/synthetic_clutter.h"
 #include "synthetic/synthetic_models.h"
 #include "test_paths.h"
 
@@ -294,6 +295,46 @@ TEST(Localizer, TargetWithASmallTouchingNeighbour) {
                                           scene.poses.front(), salt.symmetry);
   EXPECT_LE(error.translation, 0.005);
   EXPECT_LE(error.rotation_deg, 3.0);
+}
+
+// The clutter suite's desk 37 (pcl_icf_make_dataset --kind clutter --seed 2018, its 38th desk:
+// EisKaffe, a can of r 5 cm and h 15 cm, standing 50-75% visible among 10-25 objects). Its
+// segment holds a few of a neighbour's points too, and the global search's best hypotheses were
+// all the same pose, the can lying on its side, spun about its axis: each spin counted as a
+// distinct hypothesis, the 12 kept were copies of one wrong pose and the upright one was left
+// out (39 mm off, 8% of it seen through: not found). With the spins counted as one pose
+// (GlobalSearchParams::distinct_surface) the upright can is found, within 1 cm / 5 degrees of
+// the generator's ground truth (the bar; symmetry-aware); the control without it is not.
+TEST(Localizer, ASymmetricTargetsSpinsAreOneHypothesis) {
+  const std::vector<std::string> pool = {
+      "Box5",   "EisKaffe", "YellowRoundSalt", "Amicelly",     "Cup",
+      "Statue", "LargeBox", "OtherBox",        "TallCylinder", "WideCylinder"};
+  const synthetic::SyntheticModel target = synthetic::suiteModel("EisKaffe");
+  std::vector<synthetic::SyntheticModel> distractors;
+  for (const auto& name : pool)
+    if (name != target.name)
+      distractors.push_back(synthetic::suiteModel(name));
+  synthetic::ClutterSpec spec;  // desk 37: the 50-75% band (37 mod 3 = 1), seed 2018 + 37
+  spec.min_target_visible = 0.5;
+  spec.max_target_visible = 0.75;
+  const synthetic::ClutterScene desk = synthetic::makeClutterScene(target, distractors, 2055, spec);
+  const IcfModel::ConstPtr model = IcfModel::build(target.mesh);
+  LocalizerParams params, control;
+  control.icf.global.distinct_surface = 0.f;
+  const auto found = localization::localizeObject(*desk.present.cloud, *model, params);
+  const auto missed = localization::localizeObject(*desk.present.cloud, *model, control);
+  auto accurate = [&](const localization::Localization& r) {
+    if (r.status != LocalizationStatus::Found)
+      return false;
+    const auto& best = r.clusters[static_cast<std::size_t>(r.best)];
+    const auto e = synthetic::poseError(Eigen::Isometry3d(best.icf.object_pose.cast<double>()),
+                                        desk.poses.front(), target.symmetry);
+    std::cout << "visible " << desk.target_visible << ": " << 1e3 * e.translation << " mm, "
+              << e.rotation_deg << " deg, confidence " << best.verification.confidence << "\n";
+    return e.translation <= 0.01 && e.rotation_deg <= 5.0;
+  };
+  EXPECT_TRUE(accurate(found)) << found.message;
+  EXPECT_FALSE(accurate(missed)) << "the control found it: the premise is gone";
 }
 
 // rankInstances against a hand-made oracle: accepted clusters by score (ties by index), a

@@ -227,10 +227,7 @@ synthetic::SequenceSpec boxBackBehindACan() {
   can.model = synthetic::thesisModel("EisKaffe");
   can.start = Eigen::Vector3d(0.015096807570992105, -0.033204907274717199, 2.0078285812995631);
   can.velocity = Eigen::Vector3d(-0.00066482596629187493, 0.0, 0.0057550058713514126);
-  occluder.model.name = "TallCylinder";  // as the generator makes it (red, r 3.5 cm, h 16 cm)
-  occluder.model.mesh = synthetic::makeCylinder(0.035, 0.16, 32);
-  occluder.model.symmetry = synthetic::Symmetry::cylinder(true);
-  occluder.model.rgb = Eigen::Vector3f(0.80f, 0.12f, 0.10f);
+  occluder.model = synthetic::suiteModel("TallCylinder");
   occluder.tracked = false;
   occluder.start = Eigen::Vector3d(-0.27885120860742685, -0.17095012110349142, 0.0);
   occluder.velocity = Eigen::Vector3d(0.014032574842629073, 0.0, 0.0);

@@ -193,37 +193,17 @@ std::string truthSpec(const Eigen::Isometry3d& pose) {
   return out.str();
 }
 
-/** A model of the suites by name: the thesis's models and distractors (thesisModel), and the
- * shapes made here: LargeBox (scenario 2's "another rectangular shaped object"), and for the
- * absent kind TallCylinder (the target: r 3.5 cm, h 16 cm, red), WideCylinder (its decoy:
- * shorter and wider, r 5 cm, h 10 cm, red too) and OtherBox (Box5's decoy: 16 x 6 x 10 cm,
- * Box5's blue). The decoys made here carry their target's colour, so colour cannot tell them
- * apart; the thesis models keep their own. */
+/** A model of the suites by name (synthetic::suiteModel), or a mesh file's (no symmetry). */
 t::SyntheticModel modelByName(const std::string& name) {
-  const Eigen::Vector3f red(0.80f, 0.12f, 0.10f), blue(0.10f, 0.25f, 0.80f);
+  if (!isMeshFile(name))
+    return t::suiteModel(name);
   t::SyntheticModel m;
   m.name = name;
-  if (isMeshFile(name)) {
-    m.mesh = pcl::icf::io::loadPolygonMesh(name);  // throws, naming the file, when unreadable
-    pcl::PointCloud<pcl::PointXYZ> vertices;       // only x y z (a scan's extra fields dropped)
-    pcl::fromPCLPointCloud2(m.mesh.cloud, vertices);
-    pcl::toPCLPointCloud2(vertices, m.mesh.cloud);
-    m.symmetry = t::Symmetry::none();
-  } else if (name == "LargeBox") {
-    m.mesh = t::makeBox(0.20, 0.12, 0.08);
-    m.symmetry = t::Symmetry::box(0.20, 0.12, 0.08);
-  } else if (name == "TallCylinder" || name == "WideCylinder") {
-    const bool tall = name == "TallCylinder";
-    m.mesh = t::makeCylinder(tall ? 0.035 : 0.05, tall ? 0.16 : 0.10, 32);
-    m.symmetry = t::Symmetry::cylinder(true);
-    m.rgb = red;
-  } else if (name == "OtherBox") {
-    m.mesh = t::makeBox(0.16, 0.06, 0.10);
-    m.symmetry = t::Symmetry::box(0.16, 0.06, 0.10);
-    m.rgb = blue;
-  } else {
-    return t::thesisModel(name);
-  }
+  m.mesh = pcl::icf::io::loadPolygonMesh(name);  // throws, naming the file, when unreadable
+  pcl::PointCloud<pcl::PointXYZ> vertices;       // only x y z (a scan's extra fields dropped)
+  pcl::fromPCLPointCloud2(m.mesh.cloud, vertices);
+  pcl::toPCLPointCloud2(vertices, m.mesh.cloud);
+  m.symmetry = t::Symmetry::none();
   return m;
 }
 

@@ -19,7 +19,7 @@
 //     --icf K=V,...        override IcfParams fields for the icf-* methods and icf-scene, for
 //                          calibration curves: rotations, keep, subsample, prescreen_points,
 //                          prescreen_share, exact_candidates, candidate_points, coarse_points,
-//                          fine_iterations, refinement_max_points
+//                          fine_iterations, refinement_max_points, distinct_surface
 //     --repeat N           run every method N times per case and report the median time
 //                          (the poses are identical: every method is seeded); icf-thesis
 //                          runs once. For small suites on a busy machine.
@@ -207,6 +207,8 @@ void applyIcfOverride(pcl::icf::IcfParams& p, const std::string& key, double v) 
     *c->second = static_cast<std::size_t>(v);
   } else if (key == "prescreen_share")
     p.global.prescreen_share = static_cast<float>(v);
+  else if (key == "distinct_surface")
+    p.global.distinct_surface = static_cast<float>(v);
   else if (key == "fine_iterations") {
     if (!(v >= 1.0 && v <= 100000.0 && v == std::floor(v)))
       throw std::invalid_argument("--icf fine_iterations must be a whole number in [1, 100000]");

@@ -81,11 +81,10 @@ struct DepthVerificationParams {
    * a 4.5 cm one) lies inside the support tolerance but 2-3 sigma off it. Up to fit_residual
    * the confidence does not depend on the residual; beyond, it falls linearly and reaches 0
    * at max_residual (infinity: off). Calibrated on 360 cases (doc/BENCHMARKS.md, "How closely
-   * a pose fits"; 1.75 then), lowered to 1.5 when the search began to count a symmetric model's
-   * spins as one hypothesis and so found closer look-alikes ("Hypotheses that are one pose"):
-   * a gelatin box posed on another box in a real frame without it, residual 1.83, confidence
-   * 0.93, is refused at 1.5 and 1.6; the real right poses rise from 12 to 14 of 18, and 1.25
-   * loses a real right pose. */
+   * a pose fits"; 1.75 then), lowered to 1.5 with a search that found closer look-alikes
+   * ("Hypotheses that are one pose"): a gelatin box posed on another box in a real frame
+   * without it, residual 1.83, confidence 0.93, is refused at 1.5 and 1.6; no right pose is
+   * lost, and 1.25 loses a real right pose. */
   double fit_residual = 1.5;
   double max_residual = 3.5;
 

@@ -53,14 +53,13 @@ struct GlobalSearchParams {
   /** ... this (translation, scene units) count as one. */
   float distinct_translation = 0.02f;
   /** Two hypotheses that put the model's surface in the same place count as one too: when
-   * the model's surface samples, moved from one pose to the other, lie on average within
-   * distinct_surface x the model's radius of its surface. A symmetric model's turns about its
-   * axis (a can spun, a box flipped end over end) are then one hypothesis instead of filling
-   * the keep slots with copies of one pose while the right one is left out (0: off).
-   * Calibrated on the clutter suite (doc/BENCHMARKS.md, "Hypotheses that are one pose"): the
-   * gain holds from 0.08 to 0.17 x the radius (7.5-15 mm on its 7-9 cm models) and is gone at
-   * 0.06 and 0.23. */
-  float distinct_surface = 0.12f;
+   * every one of the model's (first 64) surface samples, moved from one pose to the other, lies
+   * within distinct_surface x the model's radius of its surface. A symmetric model's turns
+   * about its axis (a can spun) are then one hypothesis instead of filling the keep slots with
+   * copies of one pose while the right one is left out (0: off). 0.2 is distinct_rotation's
+   * bound: a turn of 0.2 rad moves no model point more than 0.2 radii. Calibrated on the
+   * clutter suite and the real frames (doc/BENCHMARKS.md, "Hypotheses that are one pose"). */
+  float distinct_surface = 0.2f;
   /** The cheap refinement of each kept hypothesis on the field. */
   RefinementParams field_refinement = defaultFieldRefinement();
   /** Kernel scale of the score that ranks the refined hypotheses. */

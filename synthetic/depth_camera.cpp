@@ -382,6 +382,27 @@ double visibleShare(const Scan& scene, int label, const SceneObject& object,
                      : 0.0;
 }
 
+double inViewShare(const SceneObject& object, const CameraIntrinsics& intrinsics, int pad) {
+  if (pad < 0)
+    throw std::invalid_argument("inViewShare: negative pad");
+  validate(intrinsics, ScanNoise::none());
+  CameraIntrinsics wide = intrinsics;
+  wide.width += 2 * pad;
+  wide.height += 2 * pad;
+  wide.cx += pad;
+  wide.cy += pad;
+  const DepthBuffer own = rayCast({object}, wide);  // the depths only: no noise, no cloud
+  std::size_t whole = 0, in_view = 0;
+  for (int v = 0; v < wide.height; ++v)
+    for (int u = 0; u < wide.width; ++u)
+      if (own.object[static_cast<std::size_t>(v) * wide.width + u] == 0) {
+        ++whole;
+        in_view +=
+            u >= pad && v >= pad && u < pad + intrinsics.width && v < pad + intrinsics.height;
+      }
+  return whole > 0 ? static_cast<double>(in_view) / static_cast<double>(whole) : 0.0;
+}
+
 void addEdgeArtefacts(Scan& scan, const EdgeArtefacts& artefacts) {
   if (!(artefacts.edge_step > 0.0) || !(artefacts.dropout >= 0.0 && artefacts.dropout <= 1.0) ||
       !(artefacts.flying >= 0.0 && artefacts.flying <= 1.0))

@@ -141,10 +141,19 @@ Eigen::Isometry3d standOnTable(const pcl::PolygonMesh& mesh, const Eigen::Vector
  *  \throws std::invalid_argument if the height is not positive or the tilt is not in (0, 90]. */
 Eigen::Isometry3d tableToCamera(double camera_height, double camera_tilt_deg);
 
-/** \brief Share of \a object's pixels, rendered alone without noise, that carry \a label in
- *  \a scene (its visible fraction: occlusion and the image border counted), in [0, 1]. */
+/** \brief Share of \a object's pixels inside the image, rendered alone without noise, that
+ *  carry \a label in \a scene, in [0, 1]: occlusion counted, the part beyond the image's
+ *  border not (an unoccluded object half out of the frame gives 1). Times inViewShare: the
+ *  visible share of the whole object. */
 double visibleShare(const Scan& scene, int label, const SceneObject& object,
                     const CameraIntrinsics& intrinsics);
+
+/** \brief Share of \a object's projection, rendered alone, that falls inside the image, in
+ *  [0, 1]: its pixels in the image over its pixels in the image widened by \a pad pixels on
+ *  every side (same focal length and rays). 1 for an object wholly in view; 0 when none of it
+ *  projects into either. The default pad holds an object three image widths across.
+ *  \throws std::invalid_argument if \a pad is negative. */
+double inViewShare(const SceneObject& object, const CameraIntrinsics& intrinsics, int pad = 640);
 
 /** \brief What a Kinect v1 does at depth edges, beyond ScanNoise. A pixel is on an edge when a
  *  4-neighbour's depth differs by more than edge_step; there its depth is lost with probability

@@ -238,6 +238,7 @@ ClutterScene makeClutterScene(const SyntheticModel& target,
     if (scene.target_visible < spec.min_target_visible ||
         scene.target_visible > spec.max_target_visible)
       continue;
+    scene.target_in_view = inViewShare(objects[2], intrinsics);
     objects.erase(objects.begin() + 2);
     scene.absent = renderScan(objects, intrinsics, noise);
     addEdgeArtefacts(scene.present, edges);

@@ -35,8 +35,10 @@ struct ClutterSpec {
   double stack_probability = 0.15;
   int min_background = 2;  ///< objects on the shelf behind the desk (uniform in [min, max])
   int max_background = 5;
-  /** The scene is drawn again (at most 5000 times) until the target's visible share lies in
-   * [min_target_visible, max_target_visible]. */
+  /** The scene is drawn again (at most 5000 times) until the target's visible share of its
+   * part inside the image (ClutterScene::target_visible) lies in [min_target_visible,
+   * max_target_visible]. A target partly beyond the image's border is less visible than that
+   * (ClutterScene::wholeTargetVisible). */
   double min_target_visible = 0.3;
   double max_target_visible = 1.0;
   double camera_min_height = 0.5, camera_max_height = 0.8;  ///< above the desk
@@ -53,7 +55,14 @@ struct ClutterScene {
   std::vector<Eigen::Isometry3d> poses;  ///< model -> camera per object (metres)
   std::vector<bool> stacked;             ///< per object: standing on a box, not on the desk
   std::vector<bool> background;          ///< per object: on the shelf behind the desk
-  double target_visible = 0.0;           ///< visibleShare of the target in present
+  /** visibleShare of the target in present: of its pixels inside the image, the share seen.
+   * The draw is repeated until this lies in the spec's range. */
+  double target_visible = 0.0;
+  /** inViewShare of the target: the share of it inside the image. A target partly beyond the
+   * border is partly unseen: target_visible x target_in_view is the share of the whole target
+   * seen (wholeTargetVisible), what the suite's visibility bands count. */
+  double target_in_view = 1.0;
+  double wholeTargetVisible() const { return target_visible * target_in_view; }
   Eigen::Vector4f desk_plane = Eigen::Vector4f::Zero();  ///< as TabletopScene::table_plane
 };
 

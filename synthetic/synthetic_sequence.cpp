@@ -52,7 +52,8 @@ SequenceFrame renderSequenceFrame(const SequenceSpec& spec, int frame) {
       SceneObject alone;
       alone.mesh = &o.model.mesh;
       alone.pose = pose;
-      visible = visibleShare(out.scene.scan, label[i], alone, spec.intrinsics);
+      visible = visibleShare(out.scene.scan, label[i], alone, spec.intrinsics) *
+                inViewShare(alone, spec.intrinsics);
     }
     out.visible.push_back(visible);
   }

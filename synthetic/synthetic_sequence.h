@@ -63,8 +63,10 @@ struct SequenceFrame {
   std::vector<bool> present;
   /** Per spec object: model -> camera (metres); where it would stand when absent. */
   std::vector<Eigen::Isometry3d> poses;
-  /** Per spec object: its pixels in the frame over the pixels it covers rendered alone (no
-   * noise) from the same camera: 1 unhidden, 0 absent or wholly hidden (or out of view). */
+  /** Per spec object: the share of the whole object seen, visibleShare x inViewShare (its
+   * pixels in the frame over the pixels it covers rendered alone, without noise, in an image
+   * wide enough to hold all of it): 1 unhidden and in view, 0 absent, wholly hidden or out of
+   * view; a part beyond the frame's border is unseen. */
   std::vector<double> visible;
 };
 

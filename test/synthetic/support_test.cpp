@@ -655,6 +655,32 @@ TEST(DepthCamera, EdgeArtefactsOnlyAlongDepthEdges) {
     EXPECT_EQ(std::isfinite((*all.cloud)[i].z), !edge[i]) << "pixel " << i;
 }
 
+// The share of an object inside the image against the pinhole's geometry: a 2 mm thin 20 cm
+// square at 0.9 m, fronto-parallel, projects to a 116.7-pixel square. Centred on the image's
+// right border (u = 639.5) half of it lies inside; on the corner, a quarter; in the middle,
+// all; 1 m to the side (u = 902), none. Tolerance 0.02: one pixel column of 117 (0.9%) and the
+// thin side faces, under a pixel.
+TEST(DepthCamera, InViewShareCountsThePartBeyondTheBorder) {
+  const pcl::PolygonMesh tile = makeBox(0.2, 0.2, 0.002);
+  const CameraIntrinsics k;
+  const double z = 0.9, border_u = (k.width - 0.5 - k.cx) * z / k.fx,
+               border_v = (k.height - 0.5 - k.cy) * z / k.fy;
+  SceneObject o;
+  o.mesh = &tile;
+  o.pose = Eigen::Translation3d(0.0, 0.0, z);
+  EXPECT_DOUBLE_EQ(inViewShare(o, k), 1.0);
+  o.pose = Eigen::Translation3d(border_u, 0.0, z);
+  EXPECT_NEAR(inViewShare(o, k), 0.5, 0.02);
+  o.pose = Eigen::Translation3d(border_u, border_v, z);
+  EXPECT_NEAR(inViewShare(o, k), 0.25, 0.02);
+  o.pose = Eigen::Translation3d(1.0, 0.0, z);
+  EXPECT_DOUBLE_EQ(inViewShare(o, k), 0.0);
+  // Without a pad nothing lies beyond the border: the share of what is drawn is all of it.
+  o.pose = Eigen::Translation3d(border_u, 0.0, z);
+  EXPECT_DOUBLE_EQ(inViewShare(o, k, 0), 1.0);
+  EXPECT_THROW(inViewShare(o, k, -1), std::invalid_argument);
+}
+
 // A cluttered desk against what its spec promises: the object count, the target's visible
 // share (recounted from the labels and a render of the target alone), the target absent from
 // the twin (and only the target's pixels changed there, up to noise and the edges), every
@@ -688,6 +714,9 @@ TEST(SyntheticClutter, DeskMeetsItsSpec) {
     alone.pose = scene.poses[0];
     EXPECT_DOUBLE_EQ(visibleShare(scene.present, 1, alone, CameraIntrinsics()),
                      scene.target_visible);
+    EXPECT_DOUBLE_EQ(inViewShare(alone, CameraIntrinsics()), scene.target_in_view);
+    EXPECT_GT(scene.target_in_view, 0.0) << "part of the target is seen";
+    EXPECT_LE(scene.wholeTargetVisible(), scene.target_visible);
     EXPECT_EQ(std::count(scene.absent.labels.begin(), scene.absent.labels.end(), 1), 0);
     EXPECT_GT(std::count(scene.present.labels.begin(), scene.present.labels.end(), 1), 0);
     // The target's model frame: it stands upright, its z axis the desk's normal.

@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include <iostream>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -215,6 +217,46 @@ TEST(DepthVerification, ALargerLookAlikeFitsWithinToleranceButNotWithinTheNoise)
   EXPECT_LT(with.confidence, 0.3);
   EXPECT_NEAR(with.confidence,
               without.confidence * DepthVerificationParams().residualFactor(with.residual), 1e-9);
+}
+
+// The exact-mesh limits (DepthVerificationParams::forExactMesh) against a look-alike closer
+// than the one above: a box 1 mm larger on every side (14.2 x 9.2 x 5.2 cm) posed as Box5.
+// Oracle: the geometry: its faces lie 1 mm behind the model's, under a sigma at 0.8 m (0.9
+// mm) and far inside the support tolerance, so the default limits (for a scanned mesh, 1.5
+// sigma) accept it as they accept the right pose; an exact mesh's fit is the noise alone, the
+// right pose's residual stays under 0.9 (the noise along the faces' normals, below 1 sigma;
+// the limit's linear taper keeps it accepted a little above 0.8), and the look-alike's offset
+// adds about 1.2 sigma in quadrature (1.43, under the scanned limit 1.5): refused.
+TEST(DepthVerification, AnExactMeshRefusesALookAlikeAMillimetreOff) {
+  synthetic::ScanNoise noise;
+  noise.seed = 11;
+  const RenderedBox box = renderBox(noise);
+  const IcfModel::ConstPtr model = IcfModel::build(box.model.mesh);
+  const DepthVerificationParams scanned, exact = DepthVerificationParams::forExactMesh();
+  EXPECT_NO_THROW(exact.validate());
+  EXPECT_LT(exact.fit_residual, scanned.fit_residual);
+  const DepthImage own_image(box.points, PinholeIntrinsics());
+  const DepthExplanation right = explainDepth(*model, box.pose.cast<float>(), own_image, exact);
+  EXPECT_LT(right.residual, 0.9);
+  EXPECT_GE(right.confidence, 0.875);
+
+  const pcl::PolygonMesh larger = synthetic::makeBox(0.142, 0.092, 0.052);
+  synthetic::SceneObject object;
+  object.mesh = &larger;
+  object.pose = box.pose;
+  object.label = 1;
+  const synthetic::Scan scan =
+      synthetic::renderScan({object}, synthetic::CameraIntrinsics(), noise);
+  const DepthImage image(pointsOf(scan), PinholeIntrinsics());
+  const DepthExplanation as_scanned = explainDepth(*model, box.pose.cast<float>(), image, scanned);
+  const DepthExplanation as_exact = explainDepth(*model, box.pose.cast<float>(), image, exact);
+  std::cout << "right " << right.residual << ", look-alike " << as_exact.residual << ": "
+            << as_scanned.confidence << " scanned, " << as_exact.confidence << " exact\n";
+  EXPECT_DOUBLE_EQ(as_scanned.residual, as_exact.residual);
+  EXPECT_GT(as_exact.residual, 1.2);
+  EXPECT_LT(as_exact.residual, scanned.fit_residual);
+  EXPECT_GE(as_scanned.confidence, 0.875) << "a scanned mesh's limits accept it";
+  EXPECT_LT(as_exact.confidence, 0.875) << "an exact mesh's refuse it";
 }
 
 /** Box5 standing on a table (no outliers): the scan's points, the table's and the box's. */

@@ -20,6 +20,10 @@
 //                          calibration curves: rotations, keep, subsample, prescreen_points,
 //                          prescreen_share, exact_candidates, candidate_points, coarse_points,
 //                          fine_iterations, refinement_max_points, distinct_surface
+//     --verification K=V,... override icf-scene's DepthVerificationParams fields, for
+//                          calibration curves: fit_residual, max_residual, full_evidence,
+//                          max_conflict, max_continuation (an exact mesh, a synthetic suite's,
+//                          fits closer than a scanned one: doc/BENCHMARKS.md)
 //     --repeat N           run every method N times per case and report the median time
 //                          (the poses are identical: every method is seeded); icf-thesis
 //                          runs once. For small suites on a busy machine.
@@ -135,6 +139,8 @@ struct Options {
   pcl::icf::SacParams sac;
   /** IcfParams' defaults with --icf's fields (threads and sac are set per run: icfParams). */
   pcl::icf::IcfParams icf;
+  /** icf-scene's verification: the localizer's defaults with --verification's fields. */
+  pcl::icf::DepthVerificationParams verification;
   std::string command_line = "pcl_icf_bench";
 };
 
@@ -142,7 +148,8 @@ int usage(const char* program) {
   std::fprintf(stderr,
                "Usage: %s [--out DIR] [--plots DIR] [--name NAME] [--methods A,B]\n"
                "          [--thesis-cases N] [--limit N] [--threads N] [--ia-iterations N]\n"
-               "          [--sac K=V,...] [--icf K=V,...] [--repeat N] [--no-plots]\n"
+               "          [--sac K=V,...] [--icf K=V,...] [--verification K=V,...]\n"
+               "          [--repeat N] [--no-plots]\n"
                "          [--scene-min-confidence C] [--ppf-sampling S] MANIFEST...\n"
                "Methods (default: all but icf-scene):",
                program);
@@ -217,6 +224,21 @@ void applyIcfOverride(pcl::icf::IcfParams& p, const std::string& key, double v) 
     throw std::invalid_argument("--icf: unknown field " + key);
 }
 
+/** Sets \a p's field \a key (the names --verification lists) to \a v; std::invalid_argument
+ * for another name. The ranges are DepthVerificationParams::validate's. */
+void applyVerificationOverride(pcl::icf::DepthVerificationParams& p, const std::string& key,
+                               double v) {
+  const std::map<std::string, double*> fields = {{"fit_residual", &p.fit_residual},
+                                                 {"max_residual", &p.max_residual},
+                                                 {"full_evidence", &p.full_evidence},
+                                                 {"max_conflict", &p.max_conflict},
+                                                 {"max_continuation", &p.max_continuation}};
+  const auto f = fields.find(key);
+  if (f == fields.end())
+    throw std::invalid_argument("--verification: unknown field " + key);
+  *f->second = v;
+}
+
 /** \a o's ICF parameters (--icf) with its threads and SacParams. */
 pcl::icf::IcfParams icfParams(const Options& o) {
   pcl::icf::IcfParams p = o.icf;
@@ -262,6 +284,11 @@ bool parseOptions(int argc, char** argv, Options& o) {
         const auto [key, value] = keyValue(arg, kv);
         applyIcfOverride(o.icf, key, value);
       }
+    } else if (arg == "--verification") {
+      for (const auto& kv : splitComma(args.value(arg))) {
+        const auto [key, value] = keyValue(arg, kv);
+        applyVerificationOverride(o.verification, key, value);
+      }
     } else if (arg == "--ppf-sampling")
       o.ppf_sampling = parseNumber(arg, args.value(arg));
     else if (arg == "--scene-min-confidence")
@@ -286,6 +313,7 @@ bool parseOptions(int argc, char** argv, Options& o) {
     throw std::invalid_argument("--ppf-sampling must lie in [0.01, 0.5]");
   o.sac.validate();
   icfParams(o).validate();  // the --icf fields' ranges, before any case runs
+  o.verification.validate();
   if (o.plot_dir.empty())
     o.plot_dir = o.out_dir;
   if (o.name.empty())
@@ -321,6 +349,7 @@ pcl::icf::localization::LocalizerParams sceneParams(const Options& o) {
   pcl::icf::localization::LocalizerParams p;
   p.threads = o.threads;
   p.icf = icfParams(o);
+  p.verification = o.verification;
   if (o.scene_min_confidence)
     p.min_confidence = *o.scene_min_confidence;
   return p;

@@ -161,6 +161,13 @@ bool parseLocalizerOption(const std::string& a, ArgumentReader& args,
     p.far_point_gate = true;
   } else if (a == "--min-confidence") {
     p.min_confidence = parseFraction(a, args.value(a));
+  } else if (a == "--keep")
+    p.icf.global.keep = static_cast<std::size_t>(parseInteger(a, args.value(a), 1, 10000));
+  else if (a == "--exact-mesh") {
+    args.noValue(a);
+    const auto exact = pcl::icf::DepthVerificationParams::forExactMesh();
+    p.verification.fit_residual = exact.fit_residual;
+    p.verification.max_residual = exact.max_residual;
   } else if (a == "--max-instances")
     p.max_instances = static_cast<int>(parseInteger(a, args.value(a), 1, 1000));
   else
@@ -342,6 +349,17 @@ std::string usageText(const std::string& program) {
     << "    --no-gate                = turn the thesis's gate off\n"
     << "    --min-confidence C       = accept a pose whose verification confidence reaches C\n"
     << "                               (default: " << p.min_confidence << ")\n"
+    << "    --keep N                 = search hypotheses refined per cluster (default: "
+    << p.icf.global.keep << "; 36\n"
+    << "                               finds more partly hidden targets on a cluttered desk at\n"
+    << "                               about 5-10% more time)\n"
+    << "    --exact-mesh             = the mesh is the object itself (CAD, synthetic): a pose\n"
+    << "                               must fit the depth as closely as the sensor measures\n"
+    << "                               (residual limits "
+    << pcl::icf::DepthVerificationParams::kExactMeshFit << " / "
+    << 2.0 * pcl::icf::DepthVerificationParams::kExactMeshFit << " sigma instead of "
+    << p.verification.fit_residual << " / " << p.verification.max_residual
+    << ", for scanned meshes)\n"
     << "    --max-instances N        = report up to N instances of the object, best first,\n"
     << "                               each scene point in one at most (default: "
     << p.max_instances << ")\n"

@@ -175,6 +175,20 @@ TEST(DepthVerification, AnOccludedTargetKeepsTheEvidenceItShows) {
   EXPECT_LT(before.confidence, 0.875);
 }
 
+/** The depth image of a box of \a sx x \a sy x \a sz metres alone at \a pose (a look-alike of
+ * another size posed where the model is). */
+DepthImage scanOfBox(double sx, double sy, double sz, const Eigen::Isometry3d& pose,
+                     const synthetic::ScanNoise& noise) {
+  const pcl::PolygonMesh mesh = synthetic::makeBox(sx, sy, sz);
+  synthetic::SceneObject object;
+  object.mesh = &mesh;
+  object.pose = pose;
+  object.label = 1;
+  const synthetic::Scan scan =
+      synthetic::renderScan({object}, synthetic::CameraIntrinsics(), noise);
+  return DepthImage(pointsOf(scan), PinholeIntrinsics());
+}
+
 // A bigger look-alike: the scan is of a box 2.5 mm larger on every side (14.5 x 9.5 x 5.5 cm)
 // and Box5 is posed at its centre. Each face the camera sees lies 2.5 mm (2.8-3.3 sigma at
 // the faces' depths, 0.74-0.84 m: sigma = 1.4 mm x z^2) behind the measured one along its
@@ -198,15 +212,7 @@ TEST(DepthVerification, ALargerLookAlikeFitsWithinToleranceButNotWithinTheNoise)
   EXPECT_DOUBLE_EQ(right.confidence,
                    explainDepth(*model, box.pose.cast<float>(), own_image, off).confidence);
 
-  const pcl::PolygonMesh larger = synthetic::makeBox(0.145, 0.095, 0.055);
-  synthetic::SceneObject object;
-  object.mesh = &larger;
-  object.pose = box.pose;
-  object.label = 1;
-  const synthetic::Scan scan =
-      synthetic::renderScan({object}, synthetic::CameraIntrinsics(), noise);
-  const std::vector<Eigen::Vector3f> points = pointsOf(scan);
-  const DepthImage image(points, PinholeIntrinsics());
+  const DepthImage image = scanOfBox(0.145, 0.095, 0.055, box.pose, noise);
   const DepthExplanation without = explainDepth(*model, box.pose.cast<float>(), image, off);
   EXPECT_GT(without.supported, 0.85);
   EXPECT_LT(without.seen_through, 0.005);
@@ -240,14 +246,7 @@ TEST(DepthVerification, AnExactMeshRefusesALookAlikeAMillimetreOff) {
   EXPECT_LT(right.residual, 0.9);
   EXPECT_GE(right.confidence, 0.875);
 
-  const pcl::PolygonMesh larger = synthetic::makeBox(0.142, 0.092, 0.052);
-  synthetic::SceneObject object;
-  object.mesh = &larger;
-  object.pose = box.pose;
-  object.label = 1;
-  const synthetic::Scan scan =
-      synthetic::renderScan({object}, synthetic::CameraIntrinsics(), noise);
-  const DepthImage image(pointsOf(scan), PinholeIntrinsics());
+  const DepthImage image = scanOfBox(0.142, 0.092, 0.052, box.pose, noise);
   const DepthExplanation as_scanned = explainDepth(*model, box.pose.cast<float>(), image, scanned);
   const DepthExplanation as_exact = explainDepth(*model, box.pose.cast<float>(), image, exact);
   std::cout << "right " << right.residual << ", look-alike " << as_exact.residual << ": "

@@ -225,6 +225,9 @@ class VtkParser {
 
   /** Big-endian bytes of one binary value, as an unsigned integer. */
   std::uint64_t binaryBits(int bytes) {
+    // startValues checks each section's room; this guards the reads themselves.
+    if (static_cast<std::uint64_t>(bytes) > data_.size() - pos_)
+      fail("binary data ends inside a value (truncated file)");
     std::uint64_t bits = 0;
     for (int i = 0; i < bytes; ++i)
       bits = (bits << 8) | static_cast<unsigned char>(data_[pos_ + i]);
@@ -330,8 +333,12 @@ class VtkParser {
     cells.connectivity.reserve(size - n);
     std::uint64_t used = 0;
     for (std::uint64_t c = 0; c < n; ++c) {
+      // startValues checked room for size values only: no count is read beyond them.
+      if (used >= size)
+        fail(cells.name + " claims " + std::to_string(n) + " cells, its " + std::to_string(size) +
+             " values end at cell " + std::to_string(c));
       const std::int64_t count = readInteger(int32, cells.name);
-      if (count < 0 || used >= size || static_cast<std::uint64_t>(count) > size - used - 1)
+      if (count < 0 || static_cast<std::uint64_t>(count) > size - used - 1)
         fail(cells.name + " cell " + std::to_string(c) + " claims " + std::to_string(count) +
              " points, more than its size " + std::to_string(size) + " leaves");
       used += 1 + static_cast<std::uint64_t>(count);

@@ -305,6 +305,13 @@ TEST_F(MeshIo, VtkLyingCountsAndOtherDatasetsFailFast) {
   const std::string binary = "# vtk DataFile Version 3.0\nlies\nBINARY\nDATASET POLYDATA\n";
   expectFileError(write("binary.vtk", binary + "POINTS 3 double\n" + std::string(8, '\0')),
                   "POINTS claims 9 values of double, the file holds 1");
+  // Found by fuzz_mesh_vtk: classic cells claiming more cells than their size holds, the file
+  // ending right after those values. The count of the cell past the size was read beyond the
+  // file (ASan: heap-buffer-overflow); now it is refused before it is read.
+  const std::string be_ints = std::string("\0\0\0\2\0\0\0\0\0\0\0\1", 12);
+  expectFileError(write("cells_past_size.vtk", binary + "POINTS 3 float\n" + std::string(36, '\0') +
+                                                   "\nLINES 2 3\n" + be_ints),
+                  "LINES claims 2 cells, its 3 values end at cell 1");
   expectFileError(
       write("grid.vtk", "# vtk DataFile Version 3.0\ng\nASCII\nDATASET UNSTRUCTURED_GRID\n"),
       "DATASET UNSTRUCTURED_GRID is not a polygon mesh");

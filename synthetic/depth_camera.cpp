@@ -386,6 +386,24 @@ double inViewShare(const SceneObject& object, const CameraIntrinsics& intrinsics
   if (pad < 0)
     throw std::invalid_argument("inViewShare: negative pad");
   validate(intrinsics, ScanNoise::none());
+  if (object.mesh == nullptr)
+    throw std::invalid_argument("inViewShare: SceneObject without mesh");
+  // No pixel beyond the object's projected bounding box can be covered: pad only that far
+  // (an object wholly in view costs one image, not one padded by 640 pixels on every side).
+  double beyond = 0.0;
+  bool in_front = true;
+  for (const Eigen::Vector3d& vertex : meshVertices(*object.mesh)) {
+    const Eigen::Vector3d p = object.pose * vertex;
+    in_front = in_front && p.z() > kNearDepth;
+    if (!in_front)
+      break;
+    const double u = intrinsics.fx * p.x() / p.z() + intrinsics.cx;
+    const double v = intrinsics.fy * p.y() / p.z() + intrinsics.cy;
+    beyond =
+        std::max({beyond, -u, u - (intrinsics.width - 1.0), -v, v - (intrinsics.height - 1.0)});
+  }
+  if (in_front)
+    pad = static_cast<int>(std::min<double>(pad, std::ceil(beyond) + 1.0));
   CameraIntrinsics wide = intrinsics;
   wide.width += 2 * pad;
   wide.height += 2 * pad;

@@ -470,7 +470,6 @@ std::size_t writeSuite(const Options& opt, const std::vector<Group>& groups) {
   return written;
 }
 
-/** The visibility band of a clutter case's group. */
 /** The band of a target whose whole is \a visible seen (ClutterScene::wholeTargetVisible): a
  * desk drawn for 30-50% of the target's part in view may show less of the whole. */
 std::string visibilityBand(double visible) {

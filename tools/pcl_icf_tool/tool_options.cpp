@@ -299,6 +299,7 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
 std::string usageText(const std::string& program) {
   const ToolOptions d;
   const auto& p = d.params;
+  const auto exact = pcl::icf::DepthVerificationParams::forExactMesh();
   std::ostringstream u;
   u << "Finds the 6D pose of a CAD mesh in a depth scan by Iterative Closest Face.\n"
     << "\n"
@@ -355,11 +356,9 @@ std::string usageText(const std::string& program) {
     << "                               about 5-10% more time)\n"
     << "    --exact-mesh             = the mesh is the object itself (CAD, synthetic): a pose\n"
     << "                               must fit the depth as closely as the sensor measures\n"
-    << "                               (residual limits "
-    << pcl::icf::DepthVerificationParams::kExactMeshFit << " / "
-    << 2.0 * pcl::icf::DepthVerificationParams::kExactMeshFit << " sigma instead of "
-    << p.verification.fit_residual << " / " << p.verification.max_residual
-    << ", for scanned meshes)\n"
+    << "                               (residual limits " << exact.fit_residual << " / "
+    << exact.max_residual << " sigma instead of " << p.verification.fit_residual << " / "
+    << p.verification.max_residual << ", for scanned meshes)\n"
     << "    --max-instances N        = report up to N instances of the object, best first,\n"
     << "                               each scene point in one at most (default: "
     << p.max_instances << ")\n"

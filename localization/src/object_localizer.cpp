@@ -49,6 +49,13 @@ void ColourCue::validate() const {
     fail("bins", bins, "must lie in [2, 360]");
 }
 
+void LocalizerParams::useExactMeshSettings() {
+  const DepthVerificationParams exact = DepthVerificationParams::forExactMesh();
+  verification.fit_residual = exact.fit_residual;
+  verification.max_residual = exact.max_residual;
+  icf.global.keep = kExactMeshKeep;
+}
+
 void LocalizerParams::validate() const {
   const internal::ParameterCheck fail("localization::LocalizerParams");
   if (segment)

@@ -152,6 +152,7 @@ py::object localize(const py::args& args, const py::kwargs& kwargs) {
   const auto start = std::chrono::steady_clock::now();
   py::dict rest;
   py::object xyz, rgb = py::none(), model, camera = py::none();
+  bool exact_mesh = false;
   if (args.size() < 1 || args.size() > 3)
     throw py::type_error(
         "localize(scene_xyz[, rgb], model, camera=None, **params) takes 1 to 3 "
@@ -174,6 +175,8 @@ py::object localize(const py::args& args, const py::kwargs& kwargs) {
       camera = py::reinterpret_borrow<py::object>(item.second);
     else if (name == "scene_xyz")
       throw py::type_error("localize(): scene_xyz is positional");
+    else if (name == "exact_mesh")
+      exact_mesh = item.second.cast<bool>();
     else
       rest[item.first] = item.second;
   }
@@ -182,6 +185,9 @@ py::object localize(const py::args& args, const py::kwargs& kwargs) {
   if (!py::isinstance<py::array>(xyz))
     throw py::value_error("scene_xyz: expected a numpy array of shape (N, 3) or (H, W, 3)");
   localization::LocalizerParams params;
+  // exact_mesh first, as the tool's --exact-mesh: a keep= or fit_residual= given with it wins.
+  if (exact_mesh)
+    params.useExactMeshSettings();
   applyLocalizerKwargs(params, rest.cast<py::kwargs>());
   if (!camera.is_none())
     params.camera_pose = rigidPose(camera, "camera");
@@ -317,7 +323,9 @@ PYBIND11_MODULE(pcl_icf, m) {
         "localize(scene_xyz[, rgb], model, camera=None, **params)\n\n"
         "scene_xyz: (N, 3) or organized (H, W, 3) float32/float64, metres, NaN for no depth;\n"
         "rgb: uint8 of the same shape (optional); camera: 4x4 camera -> scene pose (default:\n"
-        "identity); params: see localize_defaults(). Returns a namespace with status, message,\n"
+        "identity); exact_mesh=True: the mesh is the object itself (CAD): its closer residual\n"
+        "limits and more hypotheses (the tool's --exact-mesh; keywords given with it win);\n"
+        "params: see localize_defaults(). Returns a namespace with status, message,\n"
         "found, instances (best first), best, clusters, camera_pose and timing; each instance\n"
         "has pose (4x4), confidence, verification terms, quality, alternatives, time_ms.");
   m.def("estimate_pose", &pip::estimatePose, py::arg("cluster_xyz"), py::arg("model"),

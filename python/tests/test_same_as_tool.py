@@ -84,3 +84,30 @@ def test_ycbv_frame(tool, tmp_path):
     result = pcl_icf.localize(loaded.xyz, loaded.rgb, pcl_icf.Model.from_file(str(mesh)),
                               camera=loaded.camera_pose)
     assert_same(result, expected)
+
+
+def test_exact_mesh_is_the_tools_and_keep_wins_in_any_order(tool, tmp_path, box_model,
+                                                            demo_scene):
+    # The bundled scene's two distractor clusters get other poses with 24 hypotheses than with
+    # 12 (their residuals differ), so the kept count is visible in the answer; the Box5 pose
+    # fits within both residual limits (0.75 sigma), so it is found either way.
+    scene, mesh = DEMO / "tabletop_box5.pcd", DEMO / "box5.ply"
+
+    def localize(**kw):
+        return pcl_icf.localize(demo_scene.xyz, demo_scene.rgb, box_model,
+                                camera=demo_scene.camera_pose, **kw)
+
+    exact = localize(exact_mesh=True)
+    assert exact.found
+    assert_same(exact, tool_json(tool, tmp_path, scene, mesh, "--exact-mesh"))
+    spelled_out = localize(fit_residual=0.8, max_residual=1.6, keep=24)
+    for a, b in zip(exact.clusters, spelled_out.clusters):
+        assert a.verification["residual"] == b.verification["residual"]
+    # --keep given before --exact-mesh still wins, as keep= does beside exact_mesh=True.
+    kept12 = localize(exact_mesh=True, keep=12)
+    assert_same(kept12, tool_json(tool, tmp_path, scene, mesh, "--keep", "12", "--exact-mesh"))
+    default = localize()
+    residuals = [[c.verification["residual"] for c in r.clusters] for r in (kept12, default, exact)]
+    assert residuals[0] == residuals[1]
+    assert residuals[0] != residuals[2]
+    assert localize(exact_mesh=False).clusters[1].verification["residual"] == residuals[1][1]

@@ -8,6 +8,7 @@
 #include <charconv>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 namespace pcl_icf_tool {
@@ -161,13 +162,6 @@ bool parseLocalizerOption(const std::string& a, ArgumentReader& args,
     p.far_point_gate = true;
   } else if (a == "--min-confidence") {
     p.min_confidence = parseFraction(a, args.value(a));
-  } else if (a == "--keep")
-    p.icf.global.keep = static_cast<std::size_t>(parseInteger(a, args.value(a), 1, 10000));
-  else if (a == "--exact-mesh") {
-    args.noValue(a);
-    const auto exact = pcl::icf::DepthVerificationParams::forExactMesh();
-    p.verification.fit_residual = exact.fit_residual;
-    p.verification.max_residual = exact.max_residual;
   } else if (a == "--max-instances")
     p.max_instances = static_cast<int>(parseInteger(a, args.value(a), 1, 1000));
   else
@@ -218,6 +212,9 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
   auto& p = o.params;
   std::vector<std::string> positional;
   bool idle_given = false;
+  // --exact-mesh sets keep too; a --keep given anywhere wins.
+  bool exact_mesh = false;
+  std::optional<std::size_t> keep;
   ArgumentReader args(argc, argv);
   while (!args.done()) {
     const std::string a = args.next();
@@ -226,7 +223,12 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
       return o;
     } else if (parseLocalizerOption(a, args, p))
       continue;
-    else if (a == "--units")
+    else if (a == "--keep")
+      keep = static_cast<std::size_t>(parseInteger(a, args.value(a), 1, 10000));
+    else if (a == "--exact-mesh") {
+      args.noValue(a);
+      exact_mesh = true;
+    } else if (a == "--units")
       o.units = parseUnits(a, args.value(a));
     else if (a == "--model-units")
       o.model_units = parseUnits(a, args.value(a));
@@ -286,6 +288,10 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
   }
 
   checkMode(o, positional, idle_given);
+  if (exact_mesh)
+    p.useExactMeshSettings();
+  if (keep)
+    p.icf.global.keep = *keep;
   if (p.colour.expected && !(p.colour.weight >= 0.0))
     throw UsageError("--color-weight must be >= 0");
   try {
@@ -351,14 +357,20 @@ std::string usageText(const std::string& program) {
     << "    --min-confidence C       = accept a pose whose verification confidence reaches C\n"
     << "                               (default: " << p.min_confidence << ")\n"
     << "    --keep N                 = search hypotheses refined per cluster (default: "
-    << p.icf.global.keep << "; 36\n"
-    << "                               finds more partly hidden targets on a cluttered desk at\n"
-    << "                               about 5-10% more time)\n"
+    << p.icf.global.keep << ", with\n"
+    << "                               --exact-mesh "
+    << pcl::icf::localization::LocalizerParams::kExactMeshKeep
+    << "; more find more partly hidden targets on a\n"
+    << "                               cluttered desk, and more look-alikes)\n"
     << "    --exact-mesh             = the mesh is the object itself (CAD, synthetic): a pose\n"
     << "                               must fit the depth as closely as the sensor measures\n"
     << "                               (residual limits " << exact.fit_residual << " / "
     << exact.max_residual << " sigma instead of " << p.verification.fit_residual << " / "
-    << p.verification.max_residual << ", for scanned meshes)\n"
+    << p.verification.max_residual << ", for scanned\n"
+    << "                               meshes), and "
+    << pcl::icf::localization::LocalizerParams::kExactMeshKeep
+    << " hypotheses are kept: the close fit refuses\n"
+    << "                               the look-alikes more hypotheses bring\n"
     << "    --max-instances N        = report up to N instances of the object, best first,\n"
     << "                               each scene point in one at most (default: "
     << p.max_instances << ")\n"

@@ -152,7 +152,6 @@ py::object localize(const py::args& args, const py::kwargs& kwargs) {
   const auto start = std::chrono::steady_clock::now();
   py::dict rest;
   py::object xyz, rgb = py::none(), model, camera = py::none();
-  bool exact_mesh = false;
   if (args.size() < 1 || args.size() > 3)
     throw py::type_error(
         "localize(scene_xyz[, rgb], model, camera=None, **params) takes 1 to 3 "
@@ -175,8 +174,6 @@ py::object localize(const py::args& args, const py::kwargs& kwargs) {
       camera = py::reinterpret_borrow<py::object>(item.second);
     else if (name == "scene_xyz")
       throw py::type_error("localize(): scene_xyz is positional");
-    else if (name == "exact_mesh")
-      exact_mesh = item.second.cast<bool>();
     else
       rest[item.first] = item.second;
   }
@@ -185,9 +182,6 @@ py::object localize(const py::args& args, const py::kwargs& kwargs) {
   if (!py::isinstance<py::array>(xyz))
     throw py::value_error("scene_xyz: expected a numpy array of shape (N, 3) or (H, W, 3)");
   localization::LocalizerParams params;
-  // exact_mesh first, as the tool's --exact-mesh: a keep= or fit_residual= given with it wins.
-  if (exact_mesh)
-    params.useExactMeshSettings();
   applyLocalizerKwargs(params, rest.cast<py::kwargs>());
   if (!camera.is_none())
     params.camera_pose = rigidPose(camera, "camera");

@@ -222,10 +222,31 @@ const FieldTable<pcl::icf::tracking::TrackerParams>& trackerFields() {
   return table;
 }
 
+/** \a kwargs less exact_mesh, which is applied to \a params first (useExactMeshSettings when
+ * true), as the tool's --exact-mesh: the keywords given with it win. */
+py::kwargs withExactMesh(localization::LocalizerParams& params, const py::kwargs& kwargs) {
+  py::kwargs rest;
+  for (const auto& item : kwargs) {
+    if (item.first.cast<std::string>() != "exact_mesh") {
+      rest[item.first] = item.second;
+      continue;
+    }
+    bool exact = false;
+    try {
+      exact = item.second.cast<bool>();
+    } catch (const py::cast_error&) {
+      throw py::type_error("exact_mesh: cannot take " + py::repr(item.second).cast<std::string>());
+    }
+    if (exact)
+      params.useExactMeshSettings();
+  }
+  return rest;
+}
+
 }  // namespace
 
 void applyLocalizerKwargs(localization::LocalizerParams& params, const py::kwargs& kwargs) {
-  apply(localizerFields(), params, kwargs, "localize");
+  apply(localizerFields(), params, withExactMesh(params, kwargs), "localize");
 }
 
 void applyIcfKwargs(pcl::icf::IcfParams& params, const py::kwargs& kwargs) {
@@ -233,7 +254,7 @@ void applyIcfKwargs(pcl::icf::IcfParams& params, const py::kwargs& kwargs) {
 }
 
 void applyTrackerKwargs(pcl::icf::tracking::TrackerParams& params, const py::kwargs& kwargs) {
-  apply(trackerFields(), params, kwargs, "Tracker");
+  apply(trackerFields(), params, withExactMesh(params.localizer, kwargs), "Tracker");
 }
 
 py::dict trackerDefaults() {

@@ -75,6 +75,10 @@ def test_unknown_or_mistyped_keyword(box_model):
         pcl_icf.localize(GOOD, box_model, seed="x")
     with pytest.raises(TypeError, match="model"):
         pcl_icf.localize(GOOD, GOOD)
+    with pytest.raises(TypeError, match="exact_mesh"):
+        pcl_icf.localize(GOOD, box_model, exact_mesh="yes")
+    with pytest.raises(TypeError, match="exact_mesh"):
+        pcl_icf.Tracker(exact_mesh=[1])
 
 
 def test_bad_estimate_pose(box_model):

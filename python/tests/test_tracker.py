@@ -12,12 +12,12 @@ from conftest import DEMO, SHARED, require
 YCBV = SHARED / "ycbv-video0000"
 
 
-def tool_track(tool, tmp_path, frames, model):
+def tool_track(tool, tmp_path, frames, model, *options):
     """The tool's JSON lines (one per frame) for frames, following model."""
     listing = tmp_path / "frames.txt"
     listing.write_text("".join(f"{f}\n" for f in frames))
-    run = subprocess.run([tool, "--track", str(listing), str(model), "--quiet"], check=False,
-                         capture_output=True, text=True)
+    run = subprocess.run([tool, "--track", str(listing), str(model), "--quiet", *options],
+                         check=False, capture_output=True, text=True)
     return [json.loads(line) for line in run.stdout.splitlines() if line.startswith("{")]
 
 
@@ -81,6 +81,23 @@ def test_same_as_the_tool_on_ycbv_frames(tool, tmp_path):
                          "gt.json").read_text())
         truth = next(np.array(o["pose"]) for o in gt["objects"] if o.get("target"))
         assert np.linalg.norm(got.pose[:3, 3] - truth[:3, 3]) < 0.01
+
+
+def test_exact_mesh_is_the_tools(tool, tmp_path, box_model, demo_scene):
+    # Tracker(exact_mesh=True) takes the tool's --exact-mesh settings: the same answers, frame
+    # by frame, on the bundled scene (found, then tracked).
+    frames = [DEMO / "tabletop_box5.pcd"] * 3
+    expected = tool_track(tool, tmp_path, frames, DEMO / "box5.ply", "--exact-mesh")
+    assert len(expected) == len(frames)
+    tracker = pcl_icf.Tracker(exact_mesh=True)
+    tracker.add_object(box_model, "box5")
+    for want in expected:
+        got = tracker.track(demo_scene.xyz, demo_scene.rgb, camera=demo_scene.camera_pose)
+        line = want["objects"][0]
+        assert got.objects[0].state == line["state"]
+        assert got.objects[0].confidence == pytest.approx(line["confidence"], abs=1e-9)
+        np.testing.assert_allclose(got.objects[0].pose, np.array(line["pose"]), rtol=0,
+                                   atol=1e-6)
 
 
 def test_bad_arguments_are_named(box_model, demo_scene):

@@ -24,6 +24,9 @@
 //                          calibration curves: fit_residual, max_residual, full_evidence,
 //                          max_conflict, max_continuation (an exact mesh, a synthetic suite's,
 //                          fits closer than a scanned one: doc/BENCHMARKS.md)
+//     --exact-mesh         icf-scene with the tool's --exact-mesh settings
+//                          (LocalizerParams::useExactMeshSettings); --icf and --verification
+//                          fields given with it win
 //     --repeat N           run every method N times per case and report the median time
 //                          (the poses are identical: every method is seeded); icf-thesis
 //                          runs once. For small suites on a busy machine.
@@ -141,6 +144,10 @@ struct Options {
   pcl::icf::IcfParams icf;
   /** icf-scene's verification: the localizer's defaults with --verification's fields. */
   pcl::icf::DepthVerificationParams verification;
+  /** --exact-mesh: icf-scene starts from LocalizerParams::useExactMeshSettings, and the --icf
+   * and --verification fields, kept here in order, are applied again on top of it. */
+  bool exact_mesh = false;
+  std::vector<std::pair<std::string, double>> icf_fields, verification_fields;
   std::string command_line = "pcl_icf_bench";
 };
 
@@ -149,7 +156,7 @@ int usage(const char* program) {
                "Usage: %s [--out DIR] [--plots DIR] [--name NAME] [--methods A,B]\n"
                "          [--thesis-cases N] [--limit N] [--threads N] [--ia-iterations N]\n"
                "          [--sac K=V,...] [--icf K=V,...] [--verification K=V,...]\n"
-               "          [--repeat N] [--no-plots]\n"
+               "          [--exact-mesh] [--repeat N] [--no-plots]\n"
                "          [--scene-min-confidence C] [--ppf-sampling S] MANIFEST...\n"
                "Methods (default: all but icf-scene):",
                program);
@@ -247,6 +254,8 @@ pcl::icf::IcfParams icfParams(const Options& o) {
   return p;
 }
 
+pcl::icf::localization::LocalizerParams sceneParams(const Options& o);
+
 /** The options; std::invalid_argument on a bad one. False for --help. */
 bool parseOptions(int argc, char** argv, Options& o) {
   using namespace pcl_icf_tools;
@@ -283,12 +292,17 @@ bool parseOptions(int argc, char** argv, Options& o) {
       for (const auto& kv : splitComma(args.value(arg))) {
         const auto [key, value] = keyValue(arg, kv);
         applyIcfOverride(o.icf, key, value);
+        o.icf_fields.emplace_back(key, value);
       }
     } else if (arg == "--verification") {
       for (const auto& kv : splitComma(args.value(arg))) {
         const auto [key, value] = keyValue(arg, kv);
         applyVerificationOverride(o.verification, key, value);
+        o.verification_fields.emplace_back(key, value);
       }
+    } else if (arg == "--exact-mesh") {
+      args.noValue(arg);
+      o.exact_mesh = true;
     } else if (arg == "--ppf-sampling")
       o.ppf_sampling = parseNumber(arg, args.value(arg));
     else if (arg == "--scene-min-confidence")
@@ -314,6 +328,7 @@ bool parseOptions(int argc, char** argv, Options& o) {
   o.sac.validate();
   icfParams(o).validate();  // the --icf fields' ranges, before any case runs
   o.verification.validate();
+  sceneParams(o).validate();  // --exact-mesh with the fields given beside it
   if (o.plot_dir.empty())
     o.plot_dir = o.out_dir;
   if (o.name.empty())
@@ -350,6 +365,13 @@ pcl::icf::localization::LocalizerParams sceneParams(const Options& o) {
   p.threads = o.threads;
   p.icf = icfParams(o);
   p.verification = o.verification;
+  if (o.exact_mesh) {
+    p.useExactMeshSettings();
+    for (const auto& [key, value] : o.icf_fields)
+      applyIcfOverride(p.icf, key, value);
+    for (const auto& [key, value] : o.verification_fields)
+      applyVerificationOverride(p.verification, key, value);
+  }
   if (o.scene_min_confidence)
     p.min_confidence = *o.scene_min_confidence;
   return p;

@@ -329,14 +329,14 @@ std::string rejection(const ClusterLocalization& c, const LocalizerParams& param
         << std::lround(100.0 * e.seen_through) << "% seen through, "
         << std::lround(100.0 * e.below_support) << "% beneath the table, "
         << std::lround(100.0 * e.silhouette_continuation) << "% of its silhouette continues, "
-        << std::lround(100.0 * e.supported) << "% of it supported";
-    // The fit, when it is what lowers the confidence (a scanned mesh under exact-mesh limits).
-    if (e.residual > params.verification.fit_residual)
-      why << ", fits the depth at " << std::round(100.0 * e.residual) / 100.0
-          << " sigma (full confidence up to " << params.verification.fit_residual << ")";
-    why << " ";
+        << std::lround(100.0 * e.supported) << "% of it supported ";
     if (e.out_of_view > 0.0)
       why << "(" << std::lround(100.0 * e.out_of_view) << "% beyond the image's border) ";
+    // The fit, when it is one of the factors (a scanned mesh under exact-mesh limits is refused
+    // by it alone).
+    if (e.residual > params.verification.fit_residual)
+      why << "and fits the depth at " << std::round(100.0 * e.residual) / 100.0
+          << " sigma (full confidence up to " << params.verification.fit_residual << ") ";
   }
   if (!c.gate_passed)
     why << "thesis gate (" << c.gate_far_points << " points beyond " << params.gate_distance

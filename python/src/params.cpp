@@ -231,13 +231,11 @@ py::kwargs withExactMesh(localization::LocalizerParams& params, const py::kwargs
       rest[item.first] = item.second;
       continue;
     }
-    bool exact = false;
-    try {
-      exact = item.second.cast<bool>();
-    } catch (const py::cast_error&) {
-      throw py::type_error("exact_mesh: cannot take " + py::repr(item.second).cast<std::string>());
-    }
-    if (exact)
+    // Strictly a bool: a switch that 0.8 or None silently turned off would hide a mistake.
+    if (!py::isinstance<py::bool_>(item.second))
+      throw py::type_error("exact_mesh: cannot take " + py::repr(item.second).cast<std::string>() +
+                           " (True or False)");
+    if (item.second.cast<bool>())
       params.useExactMeshSettings();
   }
   return rest;

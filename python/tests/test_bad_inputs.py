@@ -78,6 +78,8 @@ def test_unknown_or_mistyped_keyword(box_model):
     with pytest.raises(TypeError, match="exact_mesh"):
         pcl_icf.localize(GOOD, box_model, exact_mesh="yes")
     with pytest.raises(TypeError, match="exact_mesh"):
+        pcl_icf.localize(GOOD, box_model, exact_mesh=1)
+    with pytest.raises(TypeError, match="exact_mesh"):
         pcl_icf.Tracker(exact_mesh=[1])
 
 

@@ -578,7 +578,6 @@ TEST(Localizer, ExactMeshSettingsRefuseAScannedMeshAndSaySo) {
     EXPECT_NE(c.reason.find("fits the depth at"), std::string::npos) << c.reason;
   }
   EXPECT_TRUE(right_pose_judged) << refused.message;
-  EXPECT_NE(refused.message.find("fits the depth at"), std::string::npos) << refused.message;
 }
 
 }  // namespace

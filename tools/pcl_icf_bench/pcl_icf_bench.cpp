@@ -328,6 +328,12 @@ bool parseOptions(int argc, char** argv, Options& o) {
   o.sac.validate();
   icfParams(o).validate();  // the --icf fields' ranges, before any case runs
   o.verification.validate();
+  const bool scene_method =
+      std::find(o.methods.begin(), o.methods.end(), kSceneMethod) != o.methods.end();
+  if ((o.exact_mesh || !o.verification_fields.empty()) && !scene_method)
+    throw std::invalid_argument(
+        "--exact-mesh and --verification are for icf-scene: add it to "
+        "--methods");
   sceneParams(o).validate();  // --exact-mesh with the fields given beside it
   if (o.plot_dir.empty())
     o.plot_dir = o.out_dir;
@@ -359,7 +365,8 @@ struct CaseInput {
   SceneInput scene;
 };
 
-/** icf-scene's parameters: the localizer's defaults with the bench's threads and SAC fields. */
+/** icf-scene's parameters: the localizer's defaults (with --exact-mesh, its settings) with the
+ * bench's threads, SAC, --icf and --verification fields. */
 pcl::icf::localization::LocalizerParams sceneParams(const Options& o) {
   pcl::icf::localization::LocalizerParams p;
   p.threads = o.threads;

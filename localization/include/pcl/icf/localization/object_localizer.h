@@ -140,7 +140,9 @@ struct LocalizerParams {
    * refuses look-alikes affords more hypotheses: on the clutter suite, keep 24 adds 5 right
    * poses and no false one under these limits, but 5 false poses under the scanned-mesh
    * limits, which is why the defaults keep 12 (doc/BENCHMARKS.md, "An exact mesh affords
-   * more hypotheses"). Everything else is left as it is. */
+   * more hypotheses"). It overwrites icf.global.keep, verification.fit_residual and
+   * verification.max_residual: set your own values of those after it. Everything else is left
+   * as it is. */
   void useExactMeshSettings();
   static constexpr std::size_t kExactMeshKeep = 24;
 

@@ -216,7 +216,12 @@ bool ObjectTracker::refine(const FrameView& view, const DepthImage& image,
     msg << "the refined pose's confidence " << out.confidence << " is below "
         << params_.localizer.min_confidence << " (" << 100.0 * out.verification.visible_support
         << "% of the visible model explained, " << 100.0 * out.verification.silhouette_continuation
-        << "% of its silhouette continues)";
+        << "% of its silhouette continues";
+    // The fit, when it lowered the confidence (as the localizer's refusal says it).
+    if (out.verification.residual > params_.localizer.verification.fit_residual)
+      msg << ", fits the depth at " << std::round(100.0 * out.verification.residual) / 100.0
+          << " sigma, full confidence up to " << params_.localizer.verification.fit_residual;
+    msg << ")";
     out.message = msg.str();
     out.refine_message = out.message;
     return false;

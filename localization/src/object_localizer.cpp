@@ -19,6 +19,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 namespace pcl {
 namespace icf {
@@ -334,9 +335,8 @@ std::string rejection(const ClusterLocalization& c, const LocalizerParams& param
       why << "(" << std::lround(100.0 * e.out_of_view) << "% beyond the image's border) ";
     // The fit, when it is one of the factors (a scanned mesh under exact-mesh limits is refused
     // by it alone).
-    if (e.residual > params.verification.fit_residual)
-      why << "and fits the depth at " << std::round(100.0 * e.residual) / 100.0
-          << " sigma (full confidence up to " << params.verification.fit_residual << ") ";
+    if (const std::string fit = describeFit(e, params.verification); !fit.empty())
+      why << "and " << fit << " ";
   }
   if (!c.gate_passed)
     why << "thesis gate (" << c.gate_far_points << " points beyond " << params.gate_distance

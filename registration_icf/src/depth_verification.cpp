@@ -533,6 +533,16 @@ std::vector<int> pointsExplainedBy(const IcfModel& model, const Eigen::Isometry3
   return explained;
 }
 
+std::string describeFit(const DepthExplanation& explanation,
+                        const DepthVerificationParams& params) {
+  if (!(params.residualFactor(explanation.residual) < 1.0))
+    return {};
+  std::ostringstream fit;
+  fit << "fits the depth at " << std::round(100.0 * explanation.residual) / 100.0
+      << " sigma, full confidence up to " << params.fit_residual;
+  return fit.str();
+}
+
 DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, float diameter,
                               const DepthVerificationParams& params) {
   params.validate();

@@ -18,6 +18,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 namespace pcl {
 namespace icf {
@@ -218,9 +219,9 @@ bool ObjectTracker::refine(const FrameView& view, const DepthImage& image,
         << "% of the visible model explained, " << 100.0 * out.verification.silhouette_continuation
         << "% of its silhouette continues";
     // The fit, when it lowered the confidence (as the localizer's refusal says it).
-    if (out.verification.residual > params_.localizer.verification.fit_residual)
-      msg << ", fits the depth at " << std::round(100.0 * out.verification.residual) / 100.0
-          << " sigma, full confidence up to " << params_.localizer.verification.fit_residual;
+    if (const std::string fit = describeFit(out.verification, params_.localizer.verification);
+        !fit.empty())
+      msg << ", " << fit;
     msg << ")";
     out.message = msg.str();
     out.refine_message = out.message;

@@ -20,6 +20,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <string>
 #include <vector>
 
 namespace pcl {
@@ -221,6 +222,13 @@ DepthExplanation explainDepth(const IcfModel& model, const Eigen::Isometry3f& mo
  * intrinsics) whose diameter is \a diameter. */
 DepthExplanation explainDepth(const ModelDepth& rendered, const DepthImage& image, float diameter,
                               const DepthVerificationParams& params = {});
+
+/** \brief How \a explanation's fit lowered its confidence, in a refusal's words: "fits the
+ * depth at 1.41 sigma, full confidence up to 0.8" when its residual is beyond \a params'
+ * fit_residual (residualFactor below 1), "" when the fit costs nothing. The localizer's and the
+ * tracker's refusals both say it, so that exact-mesh limits on a scanned mesh explain
+ * themselves. */
+std::string describeFit(const DepthExplanation& explanation, const DepthVerificationParams& params);
 
 /** \brief The indices of \a points (camera frame) that \a model at \a model_to_camera explains:
  * their pixel in \a image is covered by the rendered model and their depth lies on its surface

@@ -140,14 +140,12 @@ struct Options {
    * report its best hypothesis with its confidence, for calibration curves. */
   std::optional<double> scene_min_confidence;
   pcl::icf::SacParams sac;
-  /** IcfParams' defaults with --icf's fields (threads and sac are set per run: icfParams). */
-  pcl::icf::IcfParams icf;
-  /** icf-scene's verification: the localizer's defaults with --verification's fields. */
-  pcl::icf::DepthVerificationParams verification;
-  /** --exact-mesh: icf-scene starts from LocalizerParams::useExactMeshSettings, and the --icf
-   * and --verification fields, kept here in order, are applied again on top of it. */
-  bool exact_mesh = false;
+  /** --icf's and --verification's fields in order, applied on top of the defaults (icfParams,
+   * sceneParams); --verification's are icf-scene's. */
   std::vector<std::pair<std::string, double>> icf_fields, verification_fields;
+  /** --exact-mesh: icf-scene starts from LocalizerParams::useExactMeshSettings instead of the
+   * localizer's defaults. */
+  bool exact_mesh = false;
   std::string command_line = "pcl_icf_bench";
 };
 
@@ -246,11 +244,18 @@ void applyVerificationOverride(pcl::icf::DepthVerificationParams& p, const std::
   *f->second = v;
 }
 
-/** \a o's ICF parameters (--icf) with its threads and SacParams. */
-pcl::icf::IcfParams icfParams(const Options& o) {
-  pcl::icf::IcfParams p = o.icf;
+/** \a o's --icf fields, threads and SacParams applied to \a p. */
+void applyIcfOptions(const Options& o, pcl::icf::IcfParams& p) {
+  for (const auto& [key, value] : o.icf_fields)
+    applyIcfOverride(p, key, value);
   p.threads = o.threads;
   p.sac = o.sac;
+}
+
+/** \a o's ICF parameters: IcfParams' defaults with its --icf fields, threads and SacParams. */
+pcl::icf::IcfParams icfParams(const Options& o) {
+  pcl::icf::IcfParams p;
+  applyIcfOptions(o, p);
   return p;
 }
 
@@ -290,15 +295,11 @@ bool parseOptions(int argc, char** argv, Options& o) {
         applySacOverride(o.sac, kv);
     } else if (arg == "--icf") {
       for (const auto& kv : splitComma(args.value(arg))) {
-        const auto [key, value] = keyValue(arg, kv);
-        applyIcfOverride(o.icf, key, value);
-        o.icf_fields.emplace_back(key, value);
+        o.icf_fields.push_back(keyValue(arg, kv));
       }
     } else if (arg == "--verification") {
       for (const auto& kv : splitComma(args.value(arg))) {
-        const auto [key, value] = keyValue(arg, kv);
-        applyVerificationOverride(o.verification, key, value);
-        o.verification_fields.emplace_back(key, value);
+        o.verification_fields.push_back(keyValue(arg, kv));
       }
     } else if (arg == "--exact-mesh") {
       args.noValue(arg);
@@ -326,15 +327,14 @@ bool parseOptions(int argc, char** argv, Options& o) {
   if (!(o.ppf_sampling >= 0.01 && o.ppf_sampling <= 0.5))
     throw std::invalid_argument("--ppf-sampling must lie in [0.01, 0.5]");
   o.sac.validate();
-  icfParams(o).validate();  // the --icf fields' ranges, before any case runs
-  o.verification.validate();
+  icfParams(o).validate();  // the --icf fields' names and ranges, before any case runs
   const bool scene_method =
       std::find(o.methods.begin(), o.methods.end(), kSceneMethod) != o.methods.end();
   if ((o.exact_mesh || !o.verification_fields.empty()) && !scene_method)
     throw std::invalid_argument(
         "--exact-mesh and --verification are for icf-scene: add it to "
         "--methods");
-  sceneParams(o).validate();  // --exact-mesh with the fields given beside it
+  sceneParams(o).validate();  // --verification's fields, --exact-mesh with those given beside it
   if (o.plot_dir.empty())
     o.plot_dir = o.out_dir;
   if (o.name.empty())
@@ -366,19 +366,15 @@ struct CaseInput {
 };
 
 /** icf-scene's parameters: the localizer's defaults (with --exact-mesh, its settings) with the
- * bench's threads, SAC, --icf and --verification fields. */
+ * bench's threads, SAC, --icf and --verification fields on top. */
 pcl::icf::localization::LocalizerParams sceneParams(const Options& o) {
   pcl::icf::localization::LocalizerParams p;
-  p.threads = o.threads;
-  p.icf = icfParams(o);
-  p.verification = o.verification;
-  if (o.exact_mesh) {
+  if (o.exact_mesh)
     p.useExactMeshSettings();
-    for (const auto& [key, value] : o.icf_fields)
-      applyIcfOverride(p.icf, key, value);
-    for (const auto& [key, value] : o.verification_fields)
-      applyVerificationOverride(p.verification, key, value);
-  }
+  p.threads = o.threads;
+  applyIcfOptions(o, p.icf);
+  for (const auto& [key, value] : o.verification_fields)
+    applyVerificationOverride(p.verification, key, value);
   if (o.scene_min_confidence)
     p.min_confidence = *o.scene_min_confidence;
   return p;

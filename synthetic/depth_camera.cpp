@@ -43,7 +43,9 @@ void validate(const CameraIntrinsics& intrinsics, const ScanNoise& noise) {
     throw std::invalid_argument("depth camera: focal lengths must be positive");
   }
   if (!(noise.sigma_at_1m >= 0.0) || !(noise.outlier_range >= 0.0) ||
-      !(noise.outlier_ratio >= 0.0 && noise.outlier_ratio <= 1.0)) {
+      !(noise.outlier_ratio >= 0.0 && noise.outlier_ratio <= 1.0) ||
+      !(noise.focal_baseline >= 0.0 && std::isfinite(noise.focal_baseline)) ||
+      !(noise.disparity_step > 0.0 && std::isfinite(noise.disparity_step))) {
     throw std::invalid_argument("depth camera: invalid noise parameters");
   }
 }
@@ -217,7 +219,13 @@ std::vector<Eigen::Vector3f> noisyPoints(const DepthBuffer& buffer, const Camera
       if (noise.outlier_ratio > 0.0 && unit(rng) < noise.outlier_ratio) {
         offset += outlier(rng);
       }
-      const double scale = z + offset / std::sqrt(x * x + y * y + 1.0);
+      double scale = z + offset / std::sqrt(x * x + y * y + 1.0);
+      if (noise.focal_baseline > 0.0 && scale > 0.0) {
+        const double steps = std::round(noise.focal_baseline / scale / noise.disparity_step);
+        if (steps < 1.0)
+          continue;  // beyond the sensor's range: no depth
+        scale = noise.focal_baseline / (steps * noise.disparity_step);
+      }
       points[index] = Eigen::Vector3f(static_cast<float>(scale * x), static_cast<float>(scale * y),
                                       static_cast<float>(scale));
     }
@@ -230,6 +238,16 @@ std::uint8_t toByte(float channel) {
 }
 
 }  // namespace
+
+ScanNoise ScanNoise::structuredLight() {
+  ScanNoise noise;
+  noise.sigma_at_1m = 0.001;
+  noise.outlier_ratio = 0.02;
+  noise.outlier_range = 0.05;
+  noise.focal_baseline = 580.0 * 0.075;
+  noise.disparity_step = 0.125;
+  return noise;
+}
 
 ScanNoise ScanNoise::none() {
   ScanNoise noise;

@@ -60,10 +60,22 @@ struct ScanNoise {
   double sigma_at_1m = 0.0015;  ///< metres at 1 m depth; grows with depth^2
   double outlier_ratio = 0.05;  ///< probability in [0, 1] that a valid pixel is an outlier
   double outlier_range = 0.05;  ///< metres along the ray, uniform +-
-  std::uint64_t seed = 1;       ///< random seed
+  /** Structured-light quantisation (Kinect v1, Asus Xtion): the sensor measures the disparity
+   * d = focal_baseline / z in steps of disparity_step pixels, so the noisy depth is rounded to
+   * focal_baseline / (d rounded to a step): steps of z^2 disparity_step / focal_baseline
+   * metres, 2.9 mm at 1 m and 7.5 mm at 1.6 m for a Kinect v1 (focal_baseline 0 turns it
+   * off). */
+  double focal_baseline = 0.0;    ///< pixels x metres (Kinect v1: 580 px x 0.075 m)
+  double disparity_step = 0.125;  ///< pixels (Kinect v1: 1/8)
+  std::uint64_t seed = 1;         ///< random seed
 
   /** \brief No noise and no outliers (exact ray-cast depths). */
   static ScanNoise none();
+  /** \brief A Kinect v1 or Xtion (PrimeSense structured light): disparity quantised in 1/8
+   * pixel steps of a 580 px x 7.5 cm baseline, Gaussian disparity noise of 1 mm at 1 m
+   * (growing with z^2) before it, 2% outliers within +-5 cm: together about 1.4 mm at 1 m, as
+   * Khoshelham and Elberink (2012) measure for the Kinect v1. */
+  static ScanNoise structuredLight();
 };
 
 /** \brief A rendered scan. */

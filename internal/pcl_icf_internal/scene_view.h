@@ -10,6 +10,7 @@
  * template shells build it once per call). */
 
 #include <pcl/point_cloud.h>
+#include <pcl/point_types.h>  // pcl::traits::has_color_v
 #include <pcl/type_traits.h>
 
 #include <Eigen/Core>

@@ -10,6 +10,7 @@
 #include <pcl_icf_internal/parameter_check.h>
 
 #include "impl/object_localizer.hpp"
+#include "scene_hypotheses.h"
 
 #include <omp.h>
 
@@ -64,6 +65,7 @@ void LocalizerParams::validate() const {
   icf.validate();
   colour.validate();
   verification.validate();
+  tuning.validate();
   if (intrinsics)
     intrinsics->validate();
   if (!(min_confidence >= 0.0 && min_confidence <= 1.0))
@@ -223,15 +225,6 @@ pcl::Indices explainedPoints(const SceneView& view, const pcl::PointIndices& ind
   return explained;
 }
 
-/** True when a judged cluster may hold another object besides its pose's: it was accepted, or
- * its pose leaves at least a third of its points unexplained (one of two touching copies,
- * pulled towards the other). */
-bool holdsMore(const ClusterLocalization& judged, const pcl::PointIndices& cluster) {
-  if (judged.verification.model_pixels == 0)
-    return false;
-  return judged.accepted || 3 * judged.explained.size() <= 2 * cluster.indices.size();
-}
-
 /** True when \a judged's pose is worth more work (its turns, a refit of its cluster's rest):
  * accepted, or at least half the confidence an acceptance needs. */
 bool isPromising(const ClusterLocalization& judged, const LocalizerParams& params) {
@@ -351,13 +344,24 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
                                  const pcl::PointIndices& indices, const IcfModel& model,
                                  const LocalizerParams& params, int icf_threads,
                                  const std::optional<ColourHistogram>& expected, bool single_object,
-                                 const PrincipalAxes* axes) {
+                                 const PrincipalAxes* axes, const Eigen::Isometry3f* start) {
   ClusterLocalization c;
   c.indices = indices;
   c.single_object = single_object;
+
   const std::vector<Eigen::Vector3f> points = usablePoints(view, indices);
   IcfParams icf = params.icf;
   icf.threads = icf_threads;
+  // A hypothesis is refined from its pose, on a strided subset of the points near it.
+  if (start) {
+    const SceneHypotheses& hp = params.tuning.hypotheses;
+    icf.refinement.max_points = hp.refine_points;
+    icf.refinement.initial_inlier_distance =
+        std::max(icf.refinement.final_inlier_distance, hp.fine_start_radius);
+    icf.refinement.max_iterations = std::min(icf.refinement.max_iterations, hp.fine_iterations);
+  }
+  const Eigen::Isometry3f guess =
+      start ? start->inverse(Eigen::Isometry) : Eigen::Isometry3f::Identity();
   StartCheck worth_refining;
   // A start worth refining never needs more than an accepted pose.
   const double refine_at = std::min(params.refine_min_confidence, params.min_confidence);
@@ -367,7 +371,8 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
                           params.verification)
                  .confidence >= refine_at;
     };
-  c.icf = estimatePose(model, points, kCameraAtOrigin, icf, nullptr, {}, worth_refining);
+  c.icf = estimatePose(model, points, kCameraAtOrigin, icf, start ? &guess : nullptr, {},
+                       worth_refining);
   if (c.icf.status == IcfStatus::TooFewPoints) {
     c.reason = "too few points (" + std::to_string(c.icf.points) + ")";
     return c;
@@ -464,7 +469,7 @@ bool clusterLooksMerged(const SceneView& view, const pcl::PointIndices& cluster,
   return spreadsWiderThanModel(points, model.radius(), params.icf.global);
 }
 
-/** "no cluster passed the acceptance rules; the best, cluster 3 (confidence 0.42): why". */
+/** "no hypothesis passed the acceptance rules; the best, hypothesis 3 (confidence 0.42): why". */
 std::string notFoundMessage(const std::vector<ClusterLocalization>& clusters) {
   const ClusterLocalization* top = nullptr;
   std::size_t index = 0;
@@ -473,12 +478,12 @@ std::string notFoundMessage(const std::vector<ClusterLocalization>& clusters) {
       top = &clusters[k];
       index = k;
     }
-  std::string text = "no cluster passed the acceptance rules";
+  std::string text = "no hypothesis passed the acceptance rules";
   if (!top)
     return text;
   char confidence[32];
   std::snprintf(confidence, sizeof(confidence), "%.2f", top->verification.confidence);
-  return text + "; the best, cluster " + std::to_string(index) + " (confidence " + confidence +
+  return text + "; the best, hypothesis " + std::to_string(index) + " (confidence " + confidence +
          "): " + top->reason;
 }
 
@@ -562,190 +567,121 @@ pcl::PointIndices wholeCloud(const SceneView& view) {
   return all;
 }
 
-/** The hypotheses of one scene and their judgement (judgeCluster, each into its own slot, in
- * parallel): the clusters, the convexity segments of merged ones, and the rests that poses
- * leave of their clusters. Hypothesis k's parent is parents_[k] (ClusterLocalization::parent). */
-class HypothesisSearch {
- public:
-  HypothesisSearch(const SceneView& view, const DepthImage& image, const IcfModel& model,
-                   const LocalizerParams& params, std::vector<pcl::PointIndices> clusters)
-      : view_(view), image_(image), model_(model), params_(params), clusters_(std::move(clusters)) {
-    if (params.colour.expected)
-      expected_ = ColourHistogram::ofColour(*params.colour.expected, params.colour.bins);
-    parents_.assign(clusters_.size(), -1);
-    single_.assign(clusters_.size(), true);
-    for (std::size_t k = 0; k < clusters_.size(); ++k)
-      single_[k] = !clusterLooksMerged(view, clusters_[k], model, params);
-  }
-
-  /** Merged clusters: their convexity segments become clusters of their own too. */
-  void addConvexitySegments() {
-    pcl::PointCloud<pcl::PointXYZRGBA> coloured;
-    const std::size_t base = clusters_.size();
-    for (std::size_t k = 0; k < base; ++k) {
-      if (single_[k])
-        continue;
-      if (coloured.empty())
-        coloured = colouredCloud(view_);
-      for (auto& segment : segmentation::splitByConvexity(coloured, clusters_[k], params_.split))
-        if (segment.indices.size() < clusters_[k].indices.size()) {
-          clusters_.push_back(std::move(segment));
-          parents_.push_back(static_cast<int>(k));
-          single_.push_back(true);
-        }
+/** What the clusters' searches run on: the clusters that look like one object, and the
+ * convexity segments of those that spread wider than the model (touching objects merge into one
+ * Euclidean cluster; LocalizerParams::split_merged), which are not searched whole: the votes
+ * hypothesise what they hold. */
+std::vector<pcl::PointIndices> searchedClusters(const SceneView& view,
+                                                const std::vector<pcl::PointIndices>& clusters,
+                                                const IcfModel& model,
+                                                const LocalizerParams& params) {
+  std::vector<pcl::PointIndices> searched, segments;
+  pcl::PointCloud<pcl::PointXYZRGBA> coloured;
+  for (const auto& cluster : clusters) {
+    if (!clusterLooksMerged(view, cluster, model, params)) {
+      searched.push_back(cluster);
+      continue;
     }
+    if (!params.split_merged)
+      continue;
+    if (coloured.empty())
+      coloured = colouredCloud(view);
+    for (auto& segment : segmentation::splitByConvexity(coloured, cluster, params.split))
+      if (segment.indices.size() < cluster.indices.size())
+        segments.push_back(std::move(segment));
   }
+  searched.insert(searched.end(), segments.begin(), segments.end());
+  return searched;
+}
 
-  /** Judges every hypothesis so far: compact clusters and convexity segments first; a merged
-   * cluster whole only when none of its segments was accepted (searching 100k points of four
-   * objects costs seconds). */
-  void judgeSegmentsFirst() {
-    if (params_.check_turns)
-      axes_ = principalAxes(model_);
-    threads_ = params_.threads > 0 ? params_.threads : omp_get_num_procs();
-    judged_.resize(clusters_.size());
-    std::vector<int> first, second;
-    for (std::size_t k = 0; k < clusters_.size(); ++k) {
-      const bool has_segments =
-          std::find(parents_.begin(), parents_.end(), static_cast<int>(k)) != parents_.end();
-      (has_segments ? second : first).push_back(static_cast<int>(k));
-    }
-    judge(first);
-    std::vector<int> retry;
-    for (int k : second) {
-      bool segment_accepted = false, segment_whole = false;
-      const double whole =
-          params_.whole_segment_share *
-          static_cast<double>(clusters_[static_cast<std::size_t>(k)].indices.size());
-      for (std::size_t j = 0; j < clusters_.size(); ++j)
-        if (parents_[j] == k) {
-          segment_accepted = segment_accepted || judged_[j].accepted;
-          segment_whole =
-              segment_whole || static_cast<double>(clusters_[j].indices.size()) >= whole;
-        }
-      if (segment_accepted || segment_whole) {
-        judged_[static_cast<std::size_t>(k)].indices = clusters_[static_cast<std::size_t>(k)];
-        judged_[static_cast<std::size_t>(k)].reason =
-            segment_accepted ? "not searched: a segment was accepted"
-                             : "not searched: a segment holds nearly all of it";
-      } else
-        retry.push_back(k);
-    }
-    judge(retry);
+/** Every ranked hypothesis judged (judgeCluster from its pose, on the points near it), in
+ * parallel, each into its own slot. */
+std::vector<ClusterLocalization> judgeHypotheses(const SceneView& view, const DepthImage& image,
+                                                 const IcfModel& model,
+                                                 const LocalizerParams& params,
+                                                 const std::vector<RankedHypothesis>& ranked,
+                                                 int threads) {
+  std::optional<ColourHistogram> expected;
+  if (params.colour.expected)
+    expected = ColourHistogram::ofColour(*params.colour.expected, params.colour.bins);
+  std::optional<PrincipalAxes> axes;
+  if (params.check_turns)
+    axes = principalAxes(model);
+  std::vector<ClusterLocalization> judged(ranked.size());
+  const int n = static_cast<int>(ranked.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (n > 1)
+  for (int k = 0; k < n; ++k) {
+    const RankedHypothesis& h = ranked[static_cast<std::size_t>(k)];
+    ClusterLocalization& c = judged[static_cast<std::size_t>(k)];
+    c = judgeCluster(view, image, h.near, model, params, n == 1 ? threads : 1, expected, true,
+                     axes ? &*axes : nullptr, &h.model_to_camera);
+    c.source_cluster = h.source.cluster;
+    c.prescore = h.prescore;
   }
+  return judged;
+}
 
-  /** More instances: what an accepted pose leaves of its cluster is searched again, as a
-   * cluster of its own (two touching copies of the object share one Euclidean cluster); when
-   * that finds one, the first is searched again without the second's points (its pose was
-   * pulled by them). rankInstances keeps the better of a cluster and its refit. With one
-   * instance asked for, one round when nothing was accepted: a pose pulled between two
-   * touching objects is rejected, and each of them alone may be found. */
-  void searchFurtherInstances() {
-    expanded_.assign(clusters_.size(), false);
-    const bool none_accepted = std::none_of(
-        judged_.begin(), judged_.end(), [](const ClusterLocalization& c) { return c.accepted; });
-    const int rounds = std::max(params_.max_instances, none_accepted ? 2 : 1);
-    for (int round = 1; round < rounds; ++round)
-      if (!searchRests())
-        break;
+std::size_t acceptedCount(const std::vector<ClusterLocalization>& clusters) {
+  return static_cast<std::size_t>(std::count_if(
+      clusters.begin(), clusters.end(), [](const ClusterLocalization& c) { return c.accepted; }));
+}
+
+/** Why a search gave no hypothesis at all: the model, the scene or the voting. */
+std::string noHypothesisMessage(const IcfModel& model, std::size_t candidates,
+                                std::size_t voting_points) {
+  if (model.pointPairs().empty())
+    return "no hypothesis: the model is too small or thin for point pairs at its sampling step";
+  const std::string voted = std::to_string(voting_points) + " scene points";
+  if (voting_points < 2)
+    return "no hypothesis: only " + voted + " with a surface normal to vote from";
+  if (candidates == 0)
+    return "no hypothesis: " + voted + " voted and no pose gathered their votes";
+  return "no hypothesis: " + voted +
+         " voted, and no pose explains the depth where they put the model";
+}
+
+/** One round: the hypotheses of every source on the points not yet \a explained, one ranking,
+ * the best judged and appended to \a out.clusters (their times added to \a out's). Returns
+ * noHypothesisMessage when nothing was judged, else "". */
+std::string searchRound(const SceneView& view, const std::vector<pcl::PointIndices>& clusters,
+                        const DepthImage& image, const IcfModel& model,
+                        const LocalizerParams& params, const std::vector<int>& explained,
+                        int threads, Localization& out) {
+  const SceneHypotheses& hp = params.tuning.hypotheses;
+  const std::vector<bool> usable = candidatePoints(view, out.segmentation, explained);
+  using Clock = std::chrono::steady_clock;
+  const auto msSince = [](Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+  };
+  auto stage = Clock::now();
+  const PointPairScene scene = votingScene(view, usable, model, hp, threads);
+  std::vector<Candidate> candidates;
+  if (hp.point_pairs)
+    candidates = votedCandidates(model, scene, hp, threads);
+  if (hp.clusters) {
+    std::vector<pcl::PointIndices> rest = clusters;
+    if (explained.size() > params.explained_indices.size())
+      withoutExplainedPoints(rest, view, explained, params.segmentation.cluster.min_size);
+    const std::vector<Candidate> searched =
+        clusterCandidates(view, searchedClusters(view, rest, model, params), model,
+                          params.icf.global, params.icf.seed, hp, threads);
+    candidates.insert(candidates.end(), searched.begin(), searched.end());
   }
-
-  /** The judged hypotheses, each with its parent. */
-  std::vector<ClusterLocalization> results() {
-    for (std::size_t k = 0; k < judged_.size(); ++k)
-      judged_[k].parent = parents_[k];
-    return std::move(judged_);
-  }
-
- private:
-  /** Judges the hypotheses \a which, one per thread (one alone gets every thread), the
-   * largest first: a large cluster started last would leave the other threads idle at the end
-   * (longest processing time first). Each is judged on one thread into its own slot, so the
-   * order does not change a result. */
-  void judge(std::vector<int> which) {
-    std::stable_sort(which.begin(), which.end(), [&](int a, int b) {
-      return clusters_[static_cast<std::size_t>(a)].indices.size() >
-             clusters_[static_cast<std::size_t>(b)].indices.size();
-    });
-    const int m = static_cast<int>(which.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_) if (m > 1)
-    for (int j = 0; j < m; ++j) {
-      const auto k = static_cast<std::size_t>(which[static_cast<std::size_t>(j)]);
-      judged_[k] = judgeCluster(view_, image_, clusters_[k], model_, params_, m == 1 ? threads_ : 1,
-                                expected_, single_[k], axes_ ? &*axes_ : nullptr);
-    }
-  }
-
-  /** Adds \a points as a hypothesis of its own (child of \a parent); -1 when too small. */
-  int addCandidate(pcl::PointIndices points, std::size_t parent, bool expand) {
-    if (points.indices.size() < params_.segmentation.cluster.min_size)
-      return -1;
-    clusters_.push_back(std::move(points));
-    parents_.push_back(static_cast<int>(parent));
-    single_.push_back(true);
-    expanded_.push_back(expand);
-    return static_cast<int>(clusters_.size()) - 1;
-  }
-
-  void judgeAdded(const std::vector<int>& added) {
-    judged_.resize(clusters_.size());
-    judge(added);
-  }
-
-  /** The points of \a from's parent that \a from's pose leaves unexplained, as a hypothesis. */
-  int refitWithout(int from) {
-    const auto parent = static_cast<std::size_t>(parents_[static_cast<std::size_t>(from)]);
-    return addCandidate(
-        unexplainedPoints(clusters_[parent], judged_[static_cast<std::size_t>(from)].explained),
-        parent, true);
-  }
-
-  /** One round of searchFurtherInstances; false when no hypothesis holds more. */
-  bool searchRests() {
-    std::vector<int> rests;
-    const std::size_t judged = clusters_.size();
-    for (std::size_t k = 0; k < judged; ++k)
-      if (!expanded_[k] && holdsMore(judged_[k], clusters_[k])) {
-        expanded_[k] = true;
-        const int r = addCandidate(unexplainedPoints(clusters_[k], judged_[k].explained), k, false);
-        if (r >= 0)
-          rests.push_back(r);
-      }
-    if (rests.empty())
-      return false;
-    judgeAdded(rests);
-    // A promising rest is refit too, not only an accepted one: the merged pose took some of
-    // its points, so its own pose may run into its neighbour. When its refit (the neighbour)
-    // is accepted, the rest is searched once more without the neighbour's points.
-    std::vector<int> refits, sources, again;
-    for (int r : rests)
-      if (isPromising(judged_[static_cast<std::size_t>(r)], params_))
-        if (const int refit = refitWithout(r); refit >= 0) {
-          refits.push_back(refit);
-          sources.push_back(r);
-        }
-    judgeAdded(refits);
-    for (std::size_t j = 0; j < refits.size(); ++j)
-      if (judged_[static_cast<std::size_t>(refits[j])].accepted &&
-          !judged_[static_cast<std::size_t>(sources[j])].accepted)
-        if (const int rest_again = refitWithout(refits[j]); rest_again >= 0)
-          again.push_back(rest_again);
-    judgeAdded(again);
-    return true;
-  }
-
-  const SceneView& view_;
-  const DepthImage& image_;
-  const IcfModel& model_;
-  const LocalizerParams& params_;
-  std::optional<ColourHistogram> expected_;
-  std::optional<PrincipalAxes> axes_;
-  int threads_ = 1;
-  std::vector<pcl::PointIndices> clusters_;
-  std::vector<int> parents_;
-  std::vector<bool> single_, expanded_;
-  std::vector<ClusterLocalization> judged_;
-};
+  out.hypotheses_ms += msSince(stage);
+  stage = Clock::now();
+  const std::size_t judged =
+      std::max(hp.judged, 2 * static_cast<std::size_t>(params.max_instances));
+  const std::vector<RankedHypothesis> ranked = rankCandidates(
+      view, usable, model, image, params.verification, scene, candidates, hp, judged, threads);
+  out.ranking_ms += msSince(stage);
+  stage = Clock::now();
+  std::vector<ClusterLocalization> found =
+      judgeHypotheses(view, image, model, params, ranked, threads);
+  out.clusters.insert(out.clusters.end(), std::make_move_iterator(found.begin()),
+                      std::make_move_iterator(found.end()));
+  out.judging_ms += msSince(stage);
+  return ranked.empty() ? noHypothesisMessage(model, candidates.size(), scene.points.size()) : "";
+}
 
 }  // namespace
 
@@ -771,23 +707,39 @@ Localization localizeInView(const SceneView& view, segmentation::TabletopSegment
   out.segmentation = std::move(segmentation);
   withoutExplainedPoints(clusters, view, params.explained_indices,
                          params.segmentation.cluster.min_size);
-
   // What the camera saw, the table marked as background (an object standing on it would
   // otherwise seem to carry on into the table at its base).
   // (Without segmentation the plane has no inliers: nothing is background.)
-  const DepthImage image = sceneDepthImage(view, out.segmentation.plane.inliers, params);
-  HypothesisSearch search(view, image, model, params, std::move(clusters));
-  if (params.split_merged)
-    search.addConvexitySegments();
-  search.judgeSegmentsFirst();
-  search.searchFurtherInstances();
-  out.clusters = search.results();
+  DepthImage image = sceneDepthImage(view, out.segmentation.plane.inliers, params);
+  const int threads = params.threads > 0 ? params.threads : omp_get_num_procs();
+  // Rounds of hypotheses, ranking and judging; after a round that accepts a pose, the points
+  // it explains are left out and the rest is searched again, until max_instances are found.
+  std::vector<int> explained = params.explained_indices;
+  std::string no_hypothesis;
+  for (int round = 0; round < params.max_instances; ++round) {
+    const std::size_t accepted_before = acceptedCount(out.clusters);
+    const std::string nothing =
+        searchRound(view, clusters, image, model, params, explained, threads, out);
+    if (round == 0)
+      no_hypothesis = nothing;
+    const std::vector<int> instances =
+        rankInstances(out.clusters, params.max_instances, params.max_shared_points);
+    if (static_cast<int>(instances.size()) >= params.max_instances ||
+        acceptedCount(out.clusters) == accepted_before)
+      break;
+    for (const int k : instances)
+      for (const auto i : out.clusters[static_cast<std::size_t>(k)].explained)
+        explained.push_back(static_cast<int>(i));
+    std::sort(explained.begin(), explained.end());
+    explained.erase(std::unique(explained.begin(), explained.end()), explained.end());
+    image.markExplained(view.points, explained);
+  }
 
   out.instances = rankInstances(out.clusters, params.max_instances, params.max_shared_points);
   out.best = out.instances.empty() ? -1 : out.instances.front();
   out.status = out.best >= 0 ? LocalizationStatus::Found : LocalizationStatus::NotFound;
   if (out.best < 0)
-    out.message = notFoundMessage(out.clusters);
+    out.message = out.clusters.empty() ? no_hypothesis : notFoundMessage(out.clusters);
   out.registration_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   out.total_ms = out.segmentation_ms + out.registration_ms;

@@ -2,6 +2,7 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
+#include <pcl/icf/global_search.h>
 #include <pcl/icf/localization/pose_alternatives.h>
 #include <pcl_icf_internal/parameter_check.h>
 
@@ -30,6 +31,12 @@ void PoseAlternativeParams::validate() const {
   if (!(quarter_turn_extent_ratio >= 1.f) || !std::isfinite(quarter_turn_extent_ratio))
     fail("quarter_turn_extent_ratio", quarter_turn_extent_ratio, "must be >= 1 and finite");
   refinement.validate();
+  if (field_points < 10)
+    fail("field_points", field_points, "must be >= 10");
+  if (!(fine_start_radius > 0.f && std::isfinite(fine_start_radius)))
+    fail("fine_start_radius", fine_start_radius, "must be positive and finite");
+  if (fine_iterations < 1)
+    fail("fine_iterations", fine_iterations, "must be >= 1");
   verification.validate();
 }
 
@@ -107,6 +114,12 @@ std::vector<PoseAlternative> turnedAlternatives(
   if (points.empty() || image.empty())
     return out;
   const std::vector<Eigen::Vector3f> subset = stridedSubset(points, params.max_points);
+  const std::vector<Eigen::Vector3f> field_subset = stridedSubset(points, params.field_points);
+  const Eigen::Vector3f pivot = model.mesh().surfaceCentroid();
+  const double scale = std::max(1e-3f, model.radius());
+  RefinementParams fine = params.refinement;
+  fine.initial_inlier_distance = std::max(fine.final_inlier_distance, params.fine_start_radius);
+  fine.max_iterations = std::min(fine.max_iterations, params.fine_iterations);
   const float diameter = 2.f * model.radius();
   for (int a = 0; a < 3; ++a)
     for (const float degrees : {90.f, 180.f, 270.f}) {
@@ -122,8 +135,14 @@ std::vector<PoseAlternative> turnedAlternatives(
           Eigen::AngleAxisf(degrees * static_cast<float>(M_PI) / 180.f, alt.axis) *
           Eigen::Translation3f(-principal.centre);
       const Eigen::Isometry3f start = object_pose * turn;
-      const RefinementResult refined =
-          refinePose(model.index(), subset, start.inverse(), params.refinement, 1);
+      // Coarse to fine: the turn refined on the closest-point field with a few hundred points,
+      // then with exact faces from the final Tukey radius (a turned start lies far from where
+      // it settles; most of the way costs a field lookup instead of an exact query).
+      const Eigen::Isometry3f coarse =
+          refinePoseOnField(model.field(), pivot, scale, field_subset, start.inverse(),
+                            GlobalSearchParams::defaultFieldRefinement())
+              .scene_to_model;
+      const RefinementResult refined = refinePose(model.index(), subset, coarse, fine, 1);
       alt.object_pose = refined.scene_to_model.inverse();
       if (samePose(alt.object_pose, object_pose, params))
         continue;

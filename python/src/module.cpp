@@ -86,7 +86,8 @@ py::dict qualityDict(const pcl::icf::PoseQuality& q) {
 py::object clusterNamespace(const localization::ClusterLocalization& c, int index) {
   py::dict d;
   d["cluster"] = index;
-  d["parent"] = c.parent;
+  d["source_cluster"] = c.source_cluster;
+  d["prescore"] = c.prescore;
   d["points"] = c.indices.indices.size();
   d["indices"] = py::array_t<int>(static_cast<py::ssize_t>(c.indices.indices.size()),
                                   c.indices.indices.data());

@@ -60,19 +60,29 @@ void DepthVerificationParams::validate() const {
 
 namespace {
 
-/** One face in the camera's frame, projected. */
+/** One face in the camera's frame, projected: its vertices' pixels are
+ * ProjectedFaces::pixels[first, first + count). */
 struct ProjectedFace {
-  std::vector<Eigen::Vector2f> pixels;
+  std::uint32_t first = 0, count = 0;
   Eigen::Vector3f normal;
   float offset = 0.f;  // normal . x = offset on the face's plane
 };
 
-/** Draws one convex face into \a out (z-buffer). */
-void rasterFace(const ProjectedFace& f, const PinholeIntrinsics& k, ModelDepth& out) {
-  Eigen::Vector2f lo = f.pixels[0], hi = f.pixels[0];
-  for (const auto& p : f.pixels) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
+/** The camera-facing faces of a model, projected; one array of pixels for all (a scanned
+ * mesh has tens of thousands of faces: one allocation each cost as much as drawing them). */
+struct ProjectedFaces {
+  std::vector<ProjectedFace> faces;
+  std::vector<Eigen::Vector2f> pixels;
+};
+
+/** Draws one convex face (its \a n projected vertices \a pixels, its plane \a normal . x = \a
+ * offset in the camera's frame) into \a out (z-buffer). */
+void rasterFace(const Eigen::Vector2f* pixels, std::size_t n, const Eigen::Vector3f& normal,
+                float offset, const PinholeIntrinsics& k, ModelDepth& out) {
+  Eigen::Vector2f lo = pixels[0], hi = pixels[0];
+  for (std::size_t i = 0; i < n; ++i) {
+    lo = lo.cwiseMin(pixels[i]);
+    hi = hi.cwiseMax(pixels[i]);
   }
   // Clamped as floats first: a vertex just in front of the camera projects far outside.
   const float w = static_cast<float>(k.width), h = static_cast<float>(k.height);
@@ -82,11 +92,10 @@ void rasterFace(const ProjectedFace& f, const PinholeIntrinsics& k, ModelDepth& 
   const int v1 = static_cast<int>(std::floor(std::clamp(hi.y(), -1.f, h - 1.f)));
   if (!(lo.allFinite() && hi.allFinite()))
     return;
-  const std::size_t n = f.pixels.size();
   float area = 0.f;
   for (std::size_t i = 0; i < n; ++i) {
-    const auto& a = f.pixels[i];
-    const auto& b = f.pixels[(i + 1) % n];
+    const auto& a = pixels[i];
+    const auto& b = pixels[(i + 1) % n];
     area += a.x() * b.y() - b.x() * a.y();
   }
   if (!(std::abs(area) > 1e-12f))
@@ -97,17 +106,17 @@ void rasterFace(const ProjectedFace& f, const PinholeIntrinsics& k, ModelDepth& 
       const Eigen::Vector2f q(static_cast<float>(u), static_cast<float>(v));
       bool inside = true;
       for (std::size_t i = 0; i < n && inside; ++i) {
-        const Eigen::Vector2f e = f.pixels[(i + 1) % n] - f.pixels[i];
-        const Eigen::Vector2f w = q - f.pixels[i];
+        const Eigen::Vector2f e = pixels[(i + 1) % n] - pixels[i];
+        const Eigen::Vector2f w = q - pixels[i];
         inside = sign * (e.x() * w.y() - e.y() * w.x()) >= 0.f;
       }
       if (!inside)
         continue;
       const Eigen::Vector3f ray((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.f);
-      const float along = f.normal.dot(ray);
+      const float along = normal.dot(ray);
       if (!(std::abs(along) > 1e-9f))
         continue;
-      const float z = f.offset / along;
+      const float z = offset / along;
       const std::size_t i = static_cast<std::size_t>(v) * k.width + u;
       if (z > 1e-6f && z < out.depth[i]) {
         out.depth[i] = z;
@@ -398,38 +407,47 @@ int silhouetteMarginPixels(const ModelDepth& m, const PinholeIntrinsics& k, floa
 
 /** The camera-facing faces of \a model at \a model_to_camera projected through \a k (faces
  * with a vertex behind the camera left out); \a lo, \a hi: their pixels' bounds. */
-std::vector<ProjectedFace> projectFaces(const IcfModel& model,
-                                        const Eigen::Isometry3f& model_to_camera,
-                                        const PinholeIntrinsics& k, Eigen::Vector2f& lo,
-                                        Eigen::Vector2f& hi) {
+ProjectedFaces projectFaces(const IcfModel& model, const Eigen::Isometry3f& model_to_camera,
+                            const PinholeIntrinsics& k, Eigen::Vector2f& lo, Eigen::Vector2f& hi) {
   const FaceMesh& mesh = model.mesh();
-  std::vector<ProjectedFace> faces;
+  // Every vertex moved and projected once (faces share them).
+  const std::vector<Eigen::Vector3f>& vertices = mesh.vertices();
+  std::vector<Eigen::Vector3f> camera(vertices.size());
+  std::vector<Eigen::Vector2f> pixel(vertices.size());
+  for (std::size_t v = 0; v < vertices.size(); ++v) {
+    const Eigen::Vector3f p = model_to_camera * vertices[v];
+    camera[v] = p;
+    pixel[v] = Eigen::Vector2f(k.fx * p.x() / p.z() + k.cx, k.fy * p.y() / p.z() + k.cy);
+  }
+  const std::vector<std::uint32_t>& index = mesh.faceVertexIndices();
+  ProjectedFaces out;
+  out.faces.reserve(mesh.size() / 2 + 1);
+  out.pixels.reserve(3 * (mesh.size() / 2 + 1));
   lo = Eigen::Vector2f::Constant(std::numeric_limits<float>::infinity());
   hi = -lo;
-  ProjectedFace f;
   for (std::size_t i = 0; i < mesh.size(); ++i) {
     const Face& face = mesh.faces()[i];
+    ProjectedFace f;
     f.normal = model_to_camera.linear() * face.normal;
-    const Eigen::Vector3f first = model_to_camera * mesh.faceVertex(i, 0);
-    f.offset = f.normal.dot(first);
+    f.offset = f.normal.dot(camera[index[face.first]]);
     if (!(f.offset < 0.f))
       continue;  // facing away from the camera (or seen edge-on)
-    f.pixels.clear();
     bool in_front = true;
-    for (std::size_t j = 0; j < face.count && in_front; ++j) {
-      const Eigen::Vector3f p = model_to_camera * mesh.faceVertex(i, j);
-      in_front = p.z() > 1e-3f;
-      f.pixels.emplace_back(k.fx * p.x() / p.z() + k.cx, k.fy * p.y() / p.z() + k.cy);
-    }
+    for (std::uint32_t j = 0; j < face.count && in_front; ++j)
+      in_front = camera[index[face.first + j]].z() > 1e-3f;
     if (!in_front)
       continue;
-    for (const auto& q : f.pixels) {
+    f.first = static_cast<std::uint32_t>(out.pixels.size());
+    f.count = face.count;
+    for (std::uint32_t j = 0; j < face.count; ++j) {
+      const Eigen::Vector2f& q = pixel[index[face.first + j]];
+      out.pixels.push_back(q);
       lo = lo.cwiseMin(q);
       hi = hi.cwiseMax(q);
     }
-    faces.push_back(f);
+    out.faces.push_back(f);
   }
-  return faces;
+  return out;
 }
 
 /** An empty rendering on \a k's grid. */
@@ -447,9 +465,8 @@ ModelDepth emptyRendering(const PinholeIntrinsics& k) {
 /** The ray-normal cosines of the pixels that \a faces (projected through \a k, pixel bounds
  * \a lo, \a hi) cover beyond \a k's image: drawn on a grid over their projection only, at most
  * kMaxOutOfViewPad pixels past each border. Empty when no pixel centre lies outside. */
-std::vector<float> beyondTheImage(const std::vector<ProjectedFace>& faces,
-                                  const PinholeIntrinsics& k, const Eigen::Vector2f& lo,
-                                  const Eigen::Vector2f& hi) {
+std::vector<float> beyondTheImage(const ProjectedFaces& projected, const PinholeIntrinsics& k,
+                                  const Eigen::Vector2f& lo, const Eigen::Vector2f& hi) {
   const float pad = static_cast<float>(kMaxOutOfViewPad);
   const float w = static_cast<float>(k.width), h = static_cast<float>(k.height);
   if (!(lo.allFinite() && hi.allFinite()) ||
@@ -469,10 +486,13 @@ std::vector<float> beyondTheImage(const std::vector<ProjectedFace>& faces,
   local.height = v1 - v0 + 1;
   ModelDepth grid = emptyRendering(local);
   const Eigen::Vector2f shift(static_cast<float>(u0), static_cast<float>(v0));
-  for (ProjectedFace f : faces) {
-    for (auto& q : f.pixels)
+  std::vector<Eigen::Vector2f> shifted;
+  for (const ProjectedFace& f : projected.faces) {
+    shifted.assign(projected.pixels.begin() + f.first,
+                   projected.pixels.begin() + f.first + f.count);
+    for (auto& q : shifted)
       q -= shift;
-    rasterFace(f, local, grid);
+    rasterFace(shifted.data(), shifted.size(), f.normal, f.offset, local, grid);
   }
   std::vector<float> cosines;
   for (int v = 0; v < local.height; ++v)
@@ -492,14 +512,14 @@ ModelDepth renderModelDepth(const IcfModel& model, const Eigen::Isometry3f& mode
                             const PinholeIntrinsics& k, bool out_of_view) {
   k.validate();
   Eigen::Vector2f lo, hi;
-  const std::vector<ProjectedFace> faces = projectFaces(model, model_to_camera, k, lo, hi);
+  const ProjectedFaces projected = projectFaces(model, model_to_camera, k, lo, hi);
   ModelDepth out = emptyRendering(k);
-  for (const auto& f : faces)
-    rasterFace(f, k, out);
+  for (const ProjectedFace& f : projected.faces)
+    rasterFace(projected.pixels.data() + f.first, f.count, f.normal, f.offset, k, out);
   out.pixels = static_cast<std::size_t>(std::count_if(
       out.depth.begin(), out.depth.end(), [](float z) { return z < DepthImage::kEmpty; }));
   if (out_of_view)
-    out.out_of_view_cosines = beyondTheImage(faces, k, lo, hi);
+    out.out_of_view_cosines = beyondTheImage(projected, k, lo, hi);
   return out;
 }
 

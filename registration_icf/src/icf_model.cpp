@@ -11,6 +11,7 @@ namespace icf {
 
 IcfModel::ConstPtr IcfModel::build(const pcl::PolygonMesh& mesh, const IcfModelParams& params) {
   params.field.validate();
+  params.point_pairs.validate();
   if (params.surface_samples < 100 || params.surface_samples > 10000000)
     throw std::invalid_argument(
         "IcfModelParams::surface_samples = " + std::to_string(params.surface_samples) +
@@ -21,6 +22,7 @@ IcfModel::ConstPtr IcfModel::build(const pcl::PolygonMesh& mesh, const IcfModelP
   model->field_ = std::make_unique<ClosestPointField>(*model->exact_index_, params.field);
   model->index_ = std::make_unique<FieldBoundedClosestFace>(*model->exact_index_, *model->field_);
   model->samples_ = sampleSurface(*model->mesh_, params.surface_samples, params.seed);
+  model->point_pairs_ = PointPairModel::build(*model->mesh_, params.point_pairs);
   const Eigen::Vector3f& c = model->mesh_->surfaceCentroid();
   for (const Eigen::Vector3f& v : model->mesh_->vertices())
     if (v.allFinite())

@@ -186,7 +186,7 @@ TEST_F(Tool, BundledSceneFindsBox5AtItsKnownPose) {
   EXPECT_EQ(j["exit_code"], 0);
   ASSERT_FALSE(j["best"].is_null());
   EXPECT_TRUE(j["best"]["accepted"].get<bool>());
-  EXPECT_GE(j["clusters"].size(), 3u);  // Box5, a cup and a statue
+  EXPECT_GE(j["clusters"].size(), 1u);  // the judged hypotheses, the best among them
   const auto truth = readTruth(demo("tabletop_box5_truth.txt"));
   const auto model = pcl::icf::synthetic::thesisModel("Box5");
   const auto error = pcl::icf::synthetic::poseError(poseOf(j["best"]), truth, model.symmetry);
@@ -358,7 +358,8 @@ TEST_F(Tool, EveryBadInputExitsTwoWithOneLine) {
 
 // Scenes with nothing to find (issue 12, bad input): a wall that fills a Kinect frame (no
 // table, or the wall taken as the table: either way no object) and a 2 x 2 cm patch (the box
-// is larger than the scene) exit 1 with the reason or 2 with one line, never a pose.
+// is larger than the scene: no pose gathers votes) exit 1 with the reason or 2 with one line,
+// never a pose.
 TEST_F(Tool, ScenesWithNothingToFindGiveAStatusNotAPose) {
   const std::string mesh = quote(demo("box5.ply"));
   pcl::PointCloud<pcl::PointXYZ> wall(640, 480);
@@ -380,7 +381,7 @@ TEST_F(Tool, ScenesWithNothingToFindGiveAStatusNotAPose) {
   expectBadInput(quote(path("patch.pcd")) + " " + mesh, "TooFewPoints");
   const Result r = run(quote(path("patch.pcd")) + " " + mesh + " --no-segment");
   EXPECT_EQ(r.code, 1) << r.out << r.err;
-  EXPECT_NE(r.out.find("beyond the image's border"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("no hypothesis"), std::string::npos) << r.out;
 }
 
 TEST_F(Tool, NeverOverwritesInputsAndOutputsOnlyWithForce) {

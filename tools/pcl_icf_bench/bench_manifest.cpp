@@ -71,8 +71,17 @@ t::Symmetry parseSymmetry(const std::string& spec, const std::string& where) {
   }
   if (kind == "cylinder" && (args.empty() || args == "noflip"))
     return t::Symmetry::cylinder(args.empty());
+  if (kind == "halfturn" && (args == "x" || args == "y" || args == "z")) {
+    // The identity and a half turn about one axis (YCB-Video's foam brick about z).
+    t::Symmetry s;
+    s.kind = t::Symmetry::Kind::Discrete;
+    const int axis = args[0] - 'x';
+    s.group = {Eigen::Matrix3d::Identity(),
+               Eigen::AngleAxisd(M_PI, Eigen::Vector3d::Unit(axis)).toRotationMatrix()};
+    return s;
+  }
   throw BadInput(where + ": unknown symmetry '" + spec +
-                 "' (none, box:SX,SY,SZ, prism:N, cylinder, cylinder:noflip)");
+                 "' (none, box:SX,SY,SZ, prism:N, cylinder, cylinder:noflip, halfturn:x|y|z)");
 }
 
 std::vector<CaseSpec> readManifest(const fs::path& path) {
@@ -134,6 +143,7 @@ std::vector<CaseSpec> readManifest(const fs::path& path) {
         if (v.size() != 3)
           throw BadInput(where + ": center needs three numbers");
         c.reference.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
+        c.center_set = true;
       } else if (key == "axes") {
         const auto v = parseNumbers(value, where);
         if (v.size() != 9)

@@ -37,6 +37,9 @@ struct CaseSpec {
    * point whose translation error counts and the symmetry's centre, its axes (axes=) the
    * symmetry's axes. Identity by default. */
   Eigen::Isometry3d reference = Eigen::Isometry3d::Identity();
+  /** center= was given; otherwise the errors are measured at the model's bounding-box centre
+   * (PreparedModel::box_centre). */
+  bool center_set = false;
   std::string cluster = "all";  ///< all | indices:FILE | crop:MARGIN
   std::filesystem::path indices;
   double crop_margin = 0.0;

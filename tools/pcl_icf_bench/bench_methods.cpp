@@ -96,7 +96,8 @@ Eigen::Matrix4f icpPointToPoint(const CloudXYZ::Ptr& cluster, const PreparedMode
 }  // namespace
 
 std::shared_ptr<PreparedModel> prepareModel(const fs::path& path, double scale,
-                                            const pcl::icf::SacParams& sac, int threads) {
+                                            const pcl::icf::SacParams& sac, int threads,
+                                            const pcl::icf::IcfModelParams& params) {
   auto m = std::make_shared<PreparedModel>();
   m->mesh = pcl::make_shared<pcl::PolygonMesh>(pcl::icf::io::loadPolygonMesh(path.string()));
   if (scale != 1.0) {
@@ -107,7 +108,7 @@ std::shared_ptr<PreparedModel> prepareModel(const fs::path& path, double scale,
     pcl::toPCLPointCloud2(vertices, m->mesh->cloud);
   }
   auto start = Clock::now();
-  m->icf = pcl::icf::IcfModel::build(*m->mesh);
+  m->icf = pcl::icf::IcfModel::build(*m->mesh, params);
   m->icf_build_ms = msSince(start);
   start = Clock::now();
   pcl::icf::cachedSacModel(*m->icf, sac, threads);
@@ -124,6 +125,8 @@ std::shared_ptr<PreparedModel> prepareModel(const fs::path& path, double scale,
   m->adds_samples = pcl::make_shared<CloudXYZ>();
   for (const auto& s : pcl::icf::sampleSurface(m->icf->mesh(), 2000, 13))
     m->adds_samples->push_back(pcl::PointXYZ(s.point.x(), s.point.y(), s.point.z()));
+  m->diameter = pcl::icf::synthetic::modelDiameter(*m->mesh);
+  m->box_centre = 0.5 * (m->icf->mesh().boundsMin() + m->icf->mesh().boundsMax()).cast<double>();
   return m;
 }
 

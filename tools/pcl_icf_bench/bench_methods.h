@@ -40,6 +40,8 @@ struct PreparedModel {
   CloudXYZ::Ptr dense;               ///< 20000 area-weighted samples (ICP targets)
   CloudN::Ptr dense_normals;         ///< the same with face normals
   CloudXYZ::Ptr adds_samples;        ///< 2000 samples for ADD-S
+  double diameter = 0.0;             ///< largest distance between two vertices, metres
+  Eigen::Vector3d box_centre = Eigen::Vector3d::Zero();  ///< of the vertices' bounding box
   double icf_build_ms = 0.0, sac_build_ms = 0.0;
   /** The non-PCL peers' data (bench_peers.h), when a peer method runs; their build times
    * (Open3D, OpenCV). */
@@ -50,7 +52,8 @@ struct PreparedModel {
 /** Loads the model (scaled to metres) and prepares everything the methods share; the
  * SampleConsensus features go to pcl::icf::cachedSacModel. */
 std::shared_ptr<PreparedModel> prepareModel(const std::filesystem::path& path, double scale,
-                                            const pcl::icf::SacParams& sac, int threads);
+                                            const pcl::icf::SacParams& sac, int threads,
+                                            const pcl::icf::IcfModelParams& params = {});
 
 /** ADD-S (metres): the mean, over the model's 2000 surface samples posed by the truth, of the
  * exact distance to the surface of the model posed by the estimate (point-to-face through the

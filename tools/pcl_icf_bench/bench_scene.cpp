@@ -48,7 +48,17 @@ std::string verificationTerms(const localization::ClusterLocalization& c) {
   return text;
 }
 
-/** "Found: cluster 3 of 19, score 0.71" or "NotFound: 19 clusters; best score 0.42: why". */
+/** "[segmentation 110 ms, hypotheses 380, ranking 190, judging 280] ". */
+std::string stages(const localization::Localization& loc) {
+  char text[160];
+  std::snprintf(text, sizeof(text),
+                "[segmentation %.0f ms, hypotheses %.0f, ranking %.0f, judging %.0f] ",
+                loc.segmentation_ms, loc.hypotheses_ms, loc.ranking_ms, loc.judging_ms);
+  return text;
+}
+
+/** "Found: hypothesis 3 of 19, score 0.71 [stages]" or "NotFound: 19 hypotheses; best score
+ * 0.42 [stages]: why". */
 std::string describe(const localization::Localization& loc) {
   std::string text = localization::toString(loc.status) + ": ";
   const auto n = std::to_string(loc.clusters.size());
@@ -56,13 +66,14 @@ std::string describe(const localization::Localization& loc) {
   if (loc.best >= 0) {
     const auto& best = loc.clusters[static_cast<std::size_t>(loc.best)];
     std::snprintf(score, sizeof(score), "%.2f", best.score);
-    return text + "cluster " + std::to_string(loc.best) + " of " + n + ", score " + score;
+    return text + "hypothesis " + std::to_string(loc.best) + " of " + n + ", score " + score + " " +
+           stages(loc);
   }
   const localization::ClusterLocalization* top = topCluster(loc);
   if (!top)
-    return text + (loc.message.empty() ? "no cluster" : loc.message);
+    return text + stages(loc) + (loc.message.empty() ? "no hypothesis" : loc.message);
   std::snprintf(score, sizeof(score), "%.2f", top->score);
-  return text + n + " clusters; best score " + score + ": " + top->reason;
+  return text + n + " hypotheses; best score " + score + " " + stages(loc) + ": " + top->reason;
 }
 
 template <typename PointT>

@@ -7,6 +7,7 @@
 #include <pcl/icf/closest_face_query.h>
 #include <pcl/icf/distance_field.h>
 #include <pcl/icf/face_mesh.h>
+#include <pcl/icf/registration/point_pair_voting.h>
 
 #include <memory>
 
@@ -20,10 +21,14 @@ struct IcfModelParams {
   std::size_t surface_samples =
       4000;                ///< area-weighted samples (visibility, coverage, base target)
   std::uint64_t seed = 1;  ///< for the samples
+  /** The table the scene's point pairs vote with (point_pair_voting.h); a calibration
+   * constant of the localizer's whole-scene hypotheses. */
+  PointPairModelParams point_pairs;
 };
 
 /** \brief A model ready for pose estimation: the faces, the exact index, the closest-point
- * field and surface samples with normals, built once and shared by every cluster and thread.
+ * field, surface samples with normals and the point pair table, built once and shared by every
+ * cluster and thread.
  *
  * Building costs about a second for 100k faces (the field dominates); queries are const and
  * thread-safe. Non-copyable (the index refers to the faces); hold it by shared_ptr. */
@@ -42,6 +47,8 @@ class IcfModel {
   const ClosestFaceQuery& index() const { return *index_; }
   const ClosestPointField& field() const { return *field_; }
   const std::vector<SurfaceSample>& samples() const { return samples_; }
+  /** \brief The model's point pair table (whole-scene hypotheses, voteForPoses). */
+  const PointPairModel& pointPairs() const { return point_pairs_; }
   /** \brief Radius of the bounding sphere about the surface centroid. */
   float radius() const { return radius_; }
 
@@ -55,6 +62,7 @@ class IcfModel {
   std::unique_ptr<ClosestPointField> field_;
   std::unique_ptr<ClosestFaceQuery> index_;  // exact_index_ bounded by field_
   std::vector<SurfaceSample> samples_;
+  PointPairModel point_pairs_;
   float radius_ = 0.f;
 };
 

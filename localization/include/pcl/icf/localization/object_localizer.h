@@ -7,6 +7,7 @@
 #include <pcl/icf/depth_verification.h>
 #include <pcl/icf/estimate_pose.h>
 #include <pcl/icf/icf_model.h>
+#include <pcl/icf/localization/localizer_tuning.h>
 #include <pcl/icf/localization/pose_alternatives.h>
 #include <pcl/icf/rigid_transform.h>
 #include <pcl/icf/segmentation/convexity_split.h>
@@ -116,9 +117,9 @@ struct LocalizerParams {
    * positive depth, else BadScene (a camera pose given the wrong way round). */
   double min_points_in_front = 0.5;
   /** Instances reported (Localization::instances), best first. 1: the best only. Above 1,
-   * the points of a cluster that an accepted pose leaves unexplained (or that any pose leaves
-   * a third of unexplained) are searched again as a cluster of their own (two touching copies
-   * merge into one Euclidean cluster); with 1, once, when no cluster was accepted. */
+   * after a search that accepts a pose the points it explains are left out (as
+   * explained_indices are) and the rest of the scene is searched again, until this many are
+   * found or a search accepts nothing new (a touching copy is found on its own points). */
   int max_instances = 1;
   /** Two instances share at most this share of their explained points (the lesser one's);
    * more, and they are one object found twice. */
@@ -132,6 +133,9 @@ struct LocalizerParams {
   /** Their parameters; refinement and verification are taken from icf.refinement and
    * verification. */
   PoseAlternativeParams alternatives;
+
+  /** Calibration constants (localizer_tuning.h): left as they are by a user. */
+  LocalizerTuning tuning;
 
   /** \brief Switches to the settings for a mesh that is the object itself (a CAD model of a
    * manufactured part, a synthetic suite's mesh): the verification's exact-mesh residual
@@ -155,13 +159,18 @@ struct LocalizerParams {
 template <typename PointT>
 Eigen::Isometry3f cameraPoseOf(const pcl::PointCloud<PointT>& scene, const LocalizerParams& params);
 
-/** \brief One cluster's outcome. */
+/** \brief One judged hypothesis: a pose from the ranking (localizer_tuning.h), refined and
+ * verified. */
 struct ClusterLocalization {
-  pcl::PointIndices indices;  ///< the cluster's points in the scene cloud
-  /** -1 for a cluster of the segmentation; else the index (in Localization::clusters) of the
-   * merged cluster this convexity segment was split from, or of the cluster whose points an
-   * accepted pose left unexplained (max_instances > 1). */
-  int parent = -1;
+  /** The scene points near the hypothesis (inside the model's box at its pose, grown by a
+   * share of its diameter; the table's left out): what it was refined on and explains. */
+  pcl::PointIndices indices;
+  /** The cluster whose search proposed it: an index into the segmentation's clusters, or past
+   * them into the convexity segments of merged ones (in their clusters' order); -1 when the
+   * whole scene's point pair votes did. */
+  int source_cluster = -1;
+  /** Its confidence in the ranking, before the exact refinement (field-refined pose). */
+  double prescore = 0.0;
   IcfResult icf;            ///< pose (object_pose: model -> scene), quality, status
   int gate_far_points = 0;  ///< points beyond gate_distance counted by the thesis's gate
   bool gate_passed = true;
@@ -201,7 +210,7 @@ struct Localization {
   LocalizationStatus status = LocalizationStatus::NotFound;
   std::string message;
   segmentation::TabletopSegmentation segmentation;  ///< empty when params.segment is false
-  /** The segmentation's clusters in its order, then the convexity segments of merged ones. */
+  /** The judged hypotheses, most confident in the ranking first. */
   std::vector<ClusterLocalization> clusters;
   /** Indices into clusters of the accepted instances, by score (best first), at most
    * params.max_instances, no two explaining the same points (rankInstances). */
@@ -212,7 +221,10 @@ struct Localization {
   Eigen::Isometry3f camera_pose = Eigen::Isometry3f::Identity();
   double total_ms = 0.0;
   double segmentation_ms = 0.0;
+  /** Everything after the segmentation; of it, the hypotheses (votes, clusters' searches), their
+   * ranking and the judging of the best. */
   double registration_ms = 0.0;
+  double hypotheses_ms = 0.0, ranking_ms = 0.0, judging_ms = 0.0;
 };
 
 /** \brief The accepted clusters of \a clusters ranked by score (ties: the lower index), each

@@ -44,6 +44,13 @@ struct PoseAlternativeParams {
   float quarter_turn_extent_ratio = 1.15f;
   /** Points used by each turn's refinement (an evenly strided subset). */
   std::size_t max_points = 3000;
+  /** Each turn is refined coarse to fine: on the closest-point field with field_points points
+   * first, then with exact faces from the Tukey radius fine_start_radius (metres) for at most
+   * fine_iterations (the field stage leaves it within a few millimetres of where the exact
+   * faces settle it). */
+  std::size_t field_points = 500;
+  float fine_start_radius = 0.01f;
+  int fine_iterations = 15;
   RefinementParams refinement;
   DepthVerificationParams verification;
 

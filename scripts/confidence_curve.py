@@ -17,6 +17,9 @@ Writes a table (markdown) of the curve to stdout and, with --plot FILE.png, a gn
 With --residual-sweep (rows measured with the residual term off, max_residual infinity), the
 table at the accept threshold 0.875 as the residual factor's fit_residual F moves (max_residual
 2F): each row's confidence times max(0, 1 - (residual - F) / F) beyond F.
+With --by-range (the desk suite, pcl_icf_make_dataset --kind desk, whose groups name the
+target's range band, D-r0.9-1.2-v50-75), the table at the accept threshold per range band
+(an absent twin D_NNN_absent in its present twin's band) and, with --plot, one curve per band.
 Python's standard library only (Debian's python3), gnuplot for the picture.
 """
 import argparse
@@ -42,6 +45,7 @@ def read_cases(paths):
                 label = "absent" if absent else ("right" if row["success"] == "1" else "wrong")
                 among = row.get("success_among_alternatives", "") == "1"
                 cases.append({"suite": suite, "case": row["case"], "label": label,
+                              "group": row["group"],
                               "confidence": float(conf), "terms": row.get("verification", ""),
                               "among_alternatives": among})
     return cases
@@ -59,6 +63,62 @@ def curve(cases, thresholds):
         among = sum(1 for c in reported if c["label"] != "absent" and c["among_alternatives"])
         rows.append((t, false_absent, absent, false_wrong, found, present, among))
     return rows
+
+
+def range_bands(cases):
+    """{band: cases} from the desk suite's groups; absent twins join their present twin's."""
+    band_of = {}
+    for c in cases:
+        if c["group"].startswith("D-r"):
+            band_of[c["case"]] = c["group"][3:].rsplit("-v", 1)[0]
+    bands = {}
+    for c in cases:
+        band = band_of.get(c["case"].replace("_absent", ""))
+        if band:
+            bands.setdefault(band, []).append(c)
+    return dict(sorted(bands.items(), key=lambda kv: float(kv[0].split("-")[0])))
+
+
+def by_range(cases, plot, threshold=0.875):
+    bands = range_bands(cases)
+    if not bands:
+        sys.exit("confidence_curve: --by-range needs the desk suite's groups (D-r...)")
+    print(f"| target range (m), threshold {threshold} | found (right pose) | wrong poses, "
+          f"target present | false poses, target absent |")
+    print("|---|---:|---:|---:|")
+    for band, members in bands.items():
+        (t, fa, na, fw, found, npres, _), = curve(members, [threshold])
+        print(f"| {band} | {found}/{npres} | {fw}/{npres} | {fa}/{na} |")
+    if not plot:
+        return
+    files, plots = [], []
+    for band, members in bands.items():
+        fine = sorted({0.0, 1.0} | {c["confidence"] for c in members})
+        dat = tempfile.NamedTemporaryFile("w", suffix=".dat", delete=False)
+        for t, fa, na, fw, found, npres, _ in curve(members, fine):
+            dat.write(f"{(fa + fw) / max(1, na + npres)} {(npres - found) / max(1, npres)} {t}\n")
+        dat.close()
+        files.append(dat.name)
+        colour = len(files)
+        plots.append(f"'{dat.name}' using 1:2 with steps lw 2 lc {colour} title '{band} m'")
+        plots.append(f"'-' using 1:2 with points pt 7 ps 1.4 lc {colour} notitle")
+    inline = []
+    for band, members in bands.items():
+        t, fa, na, fw, found, npres, _ = curve(members, [threshold])[0]
+        inline.append(f"{(fa + fw) / max(1, na + npres)} {(npres - found) / max(1, npres)}\ne")
+    script = f"""
+set terminal pngcairo size 720,520
+set output '{plot}'
+set xlabel 'false poses (absent target or wrong pose) per case'
+set ylabel 'missed objects per present target'
+set title 'Confidence threshold sweep per target range (dots: threshold {threshold})'
+set grid
+set key top right
+plot {", ".join(plots)}
+""" + "\n".join(inline) + "\n"
+    subprocess.run(["gnuplot"], input=script, text=True, check=True)
+    for name in files:
+        os.unlink(name)
 
 
 def residual_of(terms):
@@ -93,10 +153,15 @@ def main():
     ap.add_argument("--list", action="store_true", help="print every case with its terms")
     ap.add_argument("--residual-sweep", action="store_true",
                     help="the table at 0.875 as fit_residual moves (rows measured with it off)")
+    ap.add_argument("--by-range", action="store_true",
+                    help="per target range band (the desk suite), one curve per band")
     args = ap.parse_args()
     cases = read_cases(args.csv)
     if not cases:
         sys.exit("confidence_curve: no icf-scene rows in " + ", ".join(args.csv))
+    if args.by_range:
+        by_range(cases, args.plot)
+        return
     if args.residual_sweep:
         residual_sweep(cases, [1.0, 1.25, 1.5, 1.6, 1.75, 2.0, 2.25, 2.5, 3.0, float("inf")])
         return

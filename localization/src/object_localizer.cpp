@@ -629,8 +629,9 @@ std::size_t acceptedCount(const std::vector<ClusterLocalization>& clusters) {
 /** Why a search gave no hypothesis at all: the model, the scene or the voting. */
 std::string noHypothesisMessage(const IcfModel& model, std::size_t candidates,
                                 std::size_t voting_points) {
-  if (model.pointPairs().empty())
-    return "no hypothesis: the model is too small or thin for point pairs at its sampling step";
+  if (model.pointPairs().pairs() == 0 && candidates == 0)
+    return "no hypothesis: the model is too small or flat for point pairs at its sampling step, "
+           "and the clusters' search found no pose";
   const std::string voted = std::to_string(voting_points) + " scene points";
   if (voting_points < 2)
     return "no hypothesis: only " + voted + " with a surface normal to vote from";
@@ -658,7 +659,9 @@ std::string searchRound(const SceneView& view, const std::vector<pcl::PointIndic
   std::vector<Candidate> candidates;
   if (hp.point_pairs)
     candidates = votedCandidates(model, scene, hp, threads);
-  if (hp.clusters) {
+  // A model with no point pair worth voting with (a flat plate, a model smaller than a few
+  // sampling steps) is searched for in the clusters.
+  if (hp.clusters || model.pointPairs().pairs() == 0) {
     std::vector<pcl::PointIndices> rest = clusters;
     if (explained.size() > params.explained_indices.size())
       withoutExplainedPoints(rest, view, explained, params.segmentation.cluster.min_size);

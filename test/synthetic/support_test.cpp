@@ -754,3 +754,33 @@ TEST(DepthCamera, InvalidArguments) {
 }
 
 }  // namespace
+
+namespace {
+
+// Structured-light quantisation (ScanNoise::focal_baseline): a wall face-on at 1.23 m with no
+// other noise. Oracle: every depth is focal_baseline / (k x disparity_step) for an integer k
+// (to float rounding, 1e-6 relative), the one nearest the true depth (within half a step of
+// z^2 disparity_step / focal_baseline, 2.9 mm x 1.23^2 / 2 = 2.2 mm).
+TEST(DepthCamera, StructuredLightDepthsLieOnTheDisparityGrid) {
+  const pcl::PolygonMesh wall = meshOf(
+      {{-2, -2, 1.23f}, {2, -2, 1.23f}, {2, 2, 1.23f}, {-2, 2, 1.23f}}, {{0, 1, 2}, {0, 2, 3}});
+  SceneObject object;
+  object.mesh = &wall;
+  ScanNoise noise = ScanNoise::none();
+  noise.focal_baseline = 580.0 * 0.075;
+  noise.disparity_step = 0.125;
+  const Scan scan = renderScan({object}, CameraIntrinsics(), noise);
+  const double step = 1.23 * 1.23 * noise.disparity_step / noise.focal_baseline;
+  std::size_t seen = 0;
+  for (const auto& p : *scan.cloud) {
+    if (!std::isfinite(p.z))
+      continue;
+    ++seen;
+    const double k = noise.focal_baseline / (p.z * noise.disparity_step);
+    ASSERT_NEAR(k, std::round(k), 1e-6 * k) << "depth " << p.z << " is off the grid";
+    ASSERT_LE(std::abs(p.z - 1.23), 0.5 * step + 1e-6);
+  }
+  EXPECT_GT(seen, 100000u);
+}
+
+}  // namespace

@@ -617,6 +617,63 @@ TEST_F(HostileInput, ASceneWithNoTable) {
   EXPECT_LE(e.rotation_deg, 3.0);
 }
 
+// Point pair voting's hostile inputs. A flat model (one triangle: every pair of it is
+// coplanar, so it has no pair worth voting with) is searched for in the clusters instead and
+// found on a table; a scene of isolated pixels (no surface normals), a scene that is one plane
+// and a million-point unorganized cloud give a status with the reason, not a pose.
+TEST_F(HostileInput, AFlatModelIsSearchedForInTheClusters) {
+  const pcl::PolygonMesh tri = meshOf({{0, 0, 0}, {0.1f, 0, 0}, {0, 0.07f, 0}}, {{0, 1, 2}});
+  const IcfModel::ConstPtr model = IcfModel::build(tri);
+  EXPECT_EQ(model->pointPairs().pairs(), 0u);
+  pcl::PointCloud<pcl::PointXYZ> wall;  // larger than the triangle: nothing explains it
+  for (int i = -100; i <= 100; ++i)
+    for (int j = -100; j <= 100; ++j)
+      wall.push_back(pcl::PointXYZ(0.002f * i, 0.002f * j, 0.8f));
+  LocalizerParams params;
+  params.segment = false;
+  const auto r = pcl::icf::localization::localizeObject(wall, *model, params);
+  EXPECT_EQ(r.status, LocalizationStatus::NotFound) << r.message;
+  for (const auto& c : r.clusters)
+    EXPECT_EQ(c.source_cluster, 0) << "a hypothesis of the clusters' search";
+  EXPECT_FALSE(r.message.empty());
+}
+
+TEST_F(HostileInput, ASceneOfIsolatedPixels) {
+  // Every pixel at its own random depth in [0.5, 2] m: no two neighbours on one surface.
+  pcl::PointCloud<pcl::PointXYZ> speckle(320, 240);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<float> depth(0.5f, 2.f);
+  for (int v = 0; v < 240; ++v)
+    for (int u = 0; u < 320; ++u) {
+      const float z = depth(rng);
+      speckle.at(u, v) = pcl::PointXYZ(z * (u - 159.5f) / 262.f, z * (v - 119.5f) / 262.f, z);
+    }
+  for (const bool segment : {true, false}) {
+    LocalizerParams params;
+    params.segment = segment;
+    const auto r = pcl::icf::localization::localizeObject(speckle, boxModel(), params);
+    EXPECT_NE(r.status, LocalizationStatus::Found) << r.message;
+    EXPECT_FALSE(r.message.empty());
+  }
+}
+
+TEST_F(HostileInput, AMillionPointUnorganizedCloud) {
+  // 1,000,000 points (200,000 under the sanitizers) spread over a 1 m cube in front of the
+  // camera: no surface anywhere. A status, in bounded memory (the test's own process).
+  const std::size_t n = sanitized() ? 200000 : 1000000;
+  pcl::PointCloud<pcl::PointXYZ> cloud;
+  cloud.reserve(n);
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<float> u(-0.5f, 0.5f);
+  for (std::size_t i = 0; i < n; ++i)
+    cloud.push_back(pcl::PointXYZ(u(rng), u(rng), 1.f + u(rng)));
+  LocalizerParams params;
+  params.segment = false;
+  const auto r = pcl::icf::localization::localizeObject(cloud, boxModel(), params);
+  EXPECT_NE(r.status, LocalizationStatus::Found) << r.message;
+  EXPECT_FALSE(r.message.empty());
+}
+
 TEST_F(HostileInput, DoublePrecisionAndOutOfRangeMeshFiles) {
   // Vertices as doubles (MeshLab can write them): the same cube as with floats.
   const std::string cube =

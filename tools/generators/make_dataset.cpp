@@ -40,6 +40,11 @@
 //   frame's border is that much less visible; results per visibility band), and
 //   K_NNN_absent, the same desk with the target taken away (truth=none, group K-absent). Desk k
 //   draws from seed + k.
+// --kind desk: the clutter kind as a real desk: 15-25 objects, the camera 0.5-1.1 m above at
+//   35-60 degrees (the target 0.6-1.6 m away), Kinect v1 structured-light noise (quantised
+//   disparity, synthetic::ScanNoise::structuredLight) and edge artefacts, the target 25-50%,
+//   50-75% and 75-100% visible in turn. D_NNN and D_NNN_absent; groups by range and the share of
+//   the whole target seen (D-r0.6-0.9-v25-50, ..., D-absent).
 // --kind sequence: N streams of --frames organized frames (doc/DATASETS.md) for the tracker
 //   (pcl_icf_tool --track): two of the thesis models (drawn per sequence) tracked, the first
 //   moving along a smooth curve and taken off the table for 3-6 frames, then put back where
@@ -104,13 +109,15 @@ struct Options {
 int usage(const char* program) {
   std::fprintf(stderr,
                "Usage: %s --out DIR [--manifest FILE]\n"
-               "          [--kind views|tabletop|absent|present|clutter|sequence] [--cases N]\n"
-               "          [--frames N] [--models A,B,...] [--seed S]\n"
+               "          [--kind views|tabletop|absent|present|clutter|desk|sequence]\n"
+               "          [--cases N]"
+               " [--frames N] [--models A,B,...] [--seed S]\n"
                "Writes a seeded synthetic suite of the thesis's models and its manifest\n"
                "(format: doc/DATASETS.md). Defaults: views, 30 cases per group, every model\n"
                "(views: the four thesis models), seed 2013, manifest DIR/manifest.txt.\n"
                "--kind clutter writes N cluttered desks (default 30), each with the target and\n"
-               "its target-absent twin.\n"
+               "its target-absent twin; --kind desk the same as a real desk (15-25 objects,\n"
+               "0.6-1.6 m, structured-light noise), grouped by range and visibility.\n"
                "--kind sequence writes N (default 1) streams of --frames (default 40) frames\n"
                "for pcl_icf_tool --track, each with frames.txt and truth.json, no manifest.\n",
                program);
@@ -150,9 +157,11 @@ bool parseOptions(int argc, char** argv, Options& opt) {
   if (opt.out.empty())
     throw std::invalid_argument("--out is required");
   if (opt.kind != "views" && opt.kind != "tabletop" && opt.kind != "absent" &&
-      opt.kind != "present" && opt.kind != "clutter" && opt.kind != "sequence")
+      opt.kind != "present" && opt.kind != "clutter" && opt.kind != "desk" &&
+      opt.kind != "sequence")
     throw std::invalid_argument(
-        "--kind must be views, tabletop, absent, present, clutter or sequence, not " + opt.kind);
+        "--kind must be views, tabletop, absent, present, clutter, desk or sequence, not " +
+        opt.kind);
   if (opt.cases == -1)
     opt.cases = opt.kind == "sequence" ? 1 : 30;
   if (opt.cases < 1 || opt.cases > 100000)
@@ -395,6 +404,13 @@ std::string manifestHeader(const Options& opt) {
         "# whole target seen, the part beyond the frame unseen (K-v0-30, K-v30-50, K-v50-75,\n"
         "# K-v75-100); K_NNN_absent: the same desk without it (truth=none, a pose is false).\n"
         "#   pcl_icf_bench --methods icf-scene THIS_MANIFEST\n";
+  if (opt.kind == "desk")
+    text +=
+        "# REAL-LIKE DESKS: 15-25 objects touching, stacked, more on a shelf behind, the target\n"
+        "# 0.6-1.6 m away; Kinect v1 structured-light noise (quantised disparity) and edge\n"
+        "# artefacts. D_NNN: groups by range and the share of the whole target seen\n"
+        "# (D-r0.6-0.9-v50-75, ...); D_NNN_absent: the same desk without it (truth=none).\n"
+        "#   pcl_icf_bench --methods icf-scene --exact-mesh THIS_MANIFEST\n";
   if (opt.kind == "present")
     text +=
         "# TARGET PRESENT beside a similar shape of its colour: each scene is a whole organized\n"
@@ -479,8 +495,19 @@ std::string visibilityBand(double visible) {
                           : "K-v75-100";
 }
 
-/** --kind clutter: opt.cases desks, desk k from seed + k with target k mod the targets (the
- * thesis models, or --models), each written with and without its target. */
+/** A desk's group: the target's range band (0.3 m wide from 0.6 m) and visibility band. */
+std::string deskGroup(double range, double visible) {
+  const int band = std::clamp(static_cast<int>(std::floor((range - 0.6) / 0.3)), 0, 3);
+  const char* ranges[4] = {"0.6-0.9", "0.9-1.2", "1.2-1.5", "1.5-1.8"};
+  const char* visibility = visible < 0.25   ? "v0-25"
+                           : visible < 0.5  ? "v25-50"
+                           : visible < 0.75 ? "v50-75"
+                                            : "v75-100";
+  return std::string("D-r") + (range < 0.6 ? "0-0.6" : ranges[band]) + "-" + visibility;
+}
+
+/** --kind clutter (and desk): opt.cases desks, desk k from seed + k with target k mod the targets
+ * (the thesis models, or --models), each written with and without its target. */
 std::size_t writeClutterSuite(const Options& opt) {
   std::vector<std::string> targets = opt.models.empty() ? t::thesisModelNames() : opt.models;
   const std::vector<std::string> pool = {
@@ -512,14 +539,22 @@ std::size_t writeClutterSuite(const Options& opt) {
     const fs::path model_path = opt.out / "models" / (target + ".ply");
     // Visibility bands in turn with the targets (k mod 3: 30-50%, 50-75%, 75-100%): a desk
     // drawn freely hides its target less than half the time.
+    const bool desk = opt.kind == "desk";
     t::ClutterSpec spec;
-    const double band_edges[4] = {0.3, 0.5, 0.75, 1.0};
+    const double band_edges[4] = {desk ? 0.25 : 0.3, 0.5, 0.75, 1.0};
     spec.min_target_visible = band_edges[k % 3];
     spec.max_target_visible = band_edges[k % 3 + 1];
+    if (desk) {
+      spec.min_objects = 15;
+      spec.max_objects = 25;
+      spec.camera_min_height = 0.5;
+      spec.camera_max_height = 1.1;
+      spec.noise = t::ScanNoise::structuredLight();
+    }
     const t::ClutterScene scene =
         t::makeClutterScene(model, distractors, opt.seed + static_cast<std::uint64_t>(k), spec);
     char name[32];
-    std::snprintf(name, sizeof(name), "K_%03d", k);
+    std::snprintf(name, sizeof(name), desk ? "D_%03d" : "K_%03d", k);
     const std::string model_rel = fs::relative(model_path, base).string();
     for (const bool absent : {false, true}) {
       const std::string case_name = std::string(name) + (absent ? "_absent" : "");
@@ -527,8 +562,12 @@ std::size_t writeClutterSuite(const Options& opt) {
       if (pcl::io::savePCDFileBinaryCompressed(scene_path.string(),
                                                *(absent ? scene.absent : scene.present).cloud) != 0)
         throw std::runtime_error("cannot write " + scene_path.string());
-      manifest << "name=" << case_name << " group="
-               << (absent ? std::string("K-absent") : visibilityBand(scene.wholeTargetVisible()))
+      const std::string group =
+          desk ? (absent
+                      ? std::string("D-absent")
+                      : deskGroup(scene.poses[0].translation().norm(), scene.wholeTargetVisible()))
+               : (absent ? std::string("K-absent") : visibilityBand(scene.wholeTargetVisible()));
+      manifest << "name=" << case_name << " group=" << group
                << " scene=" << fs::relative(scene_path, base).string() << " model=" << model_rel
                << " units=m truth="
                << (absent ? std::string("none")
@@ -700,7 +739,7 @@ int main(int argc, char** argv) {
                   (opt.out / "sequence").string().c_str());
       return 0;
     }
-    if (opt.kind == "clutter") {
+    if (opt.kind == "clutter" || opt.kind == "desk") {
       const std::size_t written = writeClutterSuite(opt);
       std::printf("wrote %zu cases (%d desks, with and without the target) to %s, manifest %s\n",
                   written, opt.cases, opt.out.string().c_str(), opt.manifest.string().c_str());

@@ -173,7 +173,8 @@ struct PointPairVotingParams {
   /** At most this many of the hypotheses returned put the model's centre at one place (within
    * a quarter of the diameter of a better one's): a second object is hypothesised too. */
   std::size_t kept_per_place = 40;
-  /** Normals of an unorganized scene are estimated over this radius, in sampling steps. */
+  /** The scene's normals are estimated over this radius, in sampling steps
+   * (subsampleForVoting). */
   float normal_radius = 2.f;
 
   /** \throws std::invalid_argument naming the field. */

@@ -6,8 +6,8 @@
  * PPFEstimation / PPFHashMapSearch / PPFRegistration keep a hash map of features without vote
  * spreading, one peak per reference point and no re-scoring, and register one cluster against
  * one model; OpenCV's ppf_match_3d (contrib) votes the same way, on a model read as a point
- * cloud. Both found none of the 11 objects of the real clutter this code is for (issue
- * analysis, doc/BENCHMARKS.md). What the BOP benchmark's best classical entry adds (spread
+ * cloud, and found none of 11 objects on a real cluttered Kinect desk (PCL's ObjRecRANSAC none
+ * of 8). What the BOP benchmark's best classical entry adds (spread
  * votes, one vote per feature and angle, edge-preserving sampling, view-dependent re-scoring)
  * is small once the table is a dense array, so it is built here on PCL's own kd-tree and
  * normal estimation.

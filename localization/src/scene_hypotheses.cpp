@@ -6,6 +6,7 @@
 
 #include <pcl/icf/refinement.h>
 #include <pcl/icf/usable_point.h>
+#include <pcl_icf_internal/grown_model_box.h>
 #include <pcl_icf_internal/parameter_check.h>
 
 #include <omp.h>
@@ -73,17 +74,11 @@ std::vector<bool> candidatePoints(const internal::SceneView& view,
 pcl::PointIndices pointsInGrownBox(const internal::SceneView& view, const std::vector<bool>& usable,
                                    const IcfModel& model, const Eigen::Isometry3f& model_to_camera,
                                    float margin) {
-  const Eigen::Isometry3f to_model = model_to_camera.inverse(Eigen::Isometry);
-  const Eigen::Vector3f lo = model.mesh().boundsMin() - Eigen::Vector3f::Constant(margin);
-  const Eigen::Vector3f hi = model.mesh().boundsMax() + Eigen::Vector3f::Constant(margin);
+  const internal::GrownModelBox box(model, model_to_camera, margin);
   pcl::PointIndices inside;
-  for (std::size_t i = 0; i < view.points.size(); ++i) {
-    if (!usable[i])
-      continue;
-    const Eigen::Vector3f x = to_model * view.points[i];
-    if ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all())
+  for (std::size_t i = 0; i < view.points.size(); ++i)
+    if (usable[i] && box.contains(view.points[i]))
       inside.indices.push_back(static_cast<pcl::index_t>(i));
-  }
   return inside;
 }
 
@@ -152,15 +147,11 @@ std::vector<Eigen::Vector3f> votingPointsInGrownBox(const PointPairScene& scene,
                                                     const IcfModel& model,
                                                     const Eigen::Isometry3f& model_to_camera,
                                                     float margin) {
-  const Eigen::Isometry3f to_model = model_to_camera.inverse(Eigen::Isometry);
-  const Eigen::Vector3f lo = model.mesh().boundsMin() - Eigen::Vector3f::Constant(margin);
-  const Eigen::Vector3f hi = model.mesh().boundsMax() + Eigen::Vector3f::Constant(margin);
+  const internal::GrownModelBox box(model, model_to_camera, margin);
   std::vector<Eigen::Vector3f> inside;
-  for (const Eigen::Vector3f& p : scene.points) {
-    const Eigen::Vector3f x = to_model * p;
-    if ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all())
+  for (const Eigen::Vector3f& p : scene.points)
+    if (box.contains(p))
       inside.push_back(p);
-  }
   return inside;
 }
 

@@ -7,6 +7,7 @@
 #include <pcl/icf/tracking/object_tracker.h>
 #include <pcl/icf/usable_point.h>
 #include <pcl/point_types.h>
+#include <pcl_icf_internal/grown_model_box.h>
 #include <pcl_icf_internal/parameter_check.h>
 #include <pcl_icf_internal/scene_view.h>
 
@@ -34,23 +35,17 @@ double msSince(Clock::time_point start) {
 
 /** The usable points of \a view that are neither the table's nor marked in \a skip (when
  * given) inside \a model's bounding box at \a model_to_camera grown by \a margin on every
- * side: tighter than a sphere beside a neighbour (a tall cup's sphere reaches a box beside
- * it). */
+ * side (internal::GrownModelBox). */
 std::vector<Eigen::Vector3f> pointsInGrownBox(const internal::SceneView& view,
                                               const std::vector<bool>& table,
                                               const std::vector<char>* skip, const IcfModel& model,
                                               const Eigen::Isometry3f& model_to_camera,
                                               float margin) {
-  const Eigen::Isometry3f to_model = model_to_camera.inverse(Eigen::Isometry);
-  const Eigen::Vector3f lo = model.mesh().boundsMin() - Eigen::Vector3f::Constant(margin);
-  const Eigen::Vector3f hi = model.mesh().boundsMax() + Eigen::Vector3f::Constant(margin);
+  const internal::GrownModelBox box(model, model_to_camera, margin);
   std::vector<Eigen::Vector3f> inside;
   for (std::size_t i = 0; i < view.points.size(); ++i) {
     const Eigen::Vector3f& p = view.points[i];
-    if (table[i] || (skip && (*skip)[i] != 0) || !isUsablePoint(p))
-      continue;
-    const Eigen::Vector3f x = to_model * p;
-    if ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all())
+    if (!table[i] && !(skip && (*skip)[i] != 0) && isUsablePoint(p) && box.contains(p))
       inside.push_back(p);
   }
   return inside;

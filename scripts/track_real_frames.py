@@ -17,32 +17,7 @@ import sys
 import numpy as np
 
 import pcl_icf
-
-
-def ascii_ply_vertices(path):
-    """The x y z of an ASCII PLY's vertices (the shared real meshes are ASCII)."""
-    with open(path) as f:
-        if f.readline().strip() != "ply" or "ascii" not in f.readline():
-            raise ValueError(f"{path}: not an ASCII PLY")
-        count = 0
-        for line in f:
-            if line.startswith("element vertex"):
-                count = int(line.split()[2])
-            if line.strip() == "end_header":
-                break
-        return np.array([[float(v) for v in f.readline().split()[:3]] for _ in range(count)])
-
-
-def adds(points, estimated, truth):
-    """Mean distance of the model's points under the estimate to the nearest of the truly
-    posed points (brute force over a strided subset)."""
-    est = points @ estimated[:3, :3].T + estimated[:3, 3]
-    tru = points @ truth[:3, :3].T + truth[:3, 3]
-    best = np.full(len(est), np.inf)
-    for chunk in range(0, len(tru), 512):
-        d = np.linalg.norm(est[:, None, :] - tru[None, chunk:chunk + 512, :], axis=2)
-        best = np.minimum(best, d.min(axis=1))
-    return float(best.mean())
+from real_scoring import Scorer
 
 
 def main():
@@ -64,12 +39,11 @@ def main():
     first_dir, first_gt = frames[sorted(frames)[0]]
     names = [o["name"] for o in first_gt["objects"]]
     tracker = pcl_icf.Tracker(threads=args.threads)
-    models, vertices, samples = {}, {}, {}
+    models, scorers = {}, {}
     for o in first_gt["objects"]:
         path = (first_dir / o["model"]).resolve()
         models[o["name"]] = pcl_icf.Model.from_file(str(path))
-        vertices[o["name"]] = ascii_ply_vertices(path)
-        samples[o["name"]] = vertices[o["name"]][:: max(1, len(vertices[o["name"]]) // 2000)]
+        scorers[o["name"]] = Scorer(path)
         tracker.add_object(models[o["name"]], o["name"])
     posed_right = total = 0
     times = []
@@ -80,16 +54,9 @@ def main():
         result = tracker.track(scene.xyz, scene.rgb, camera=scene.camera_pose)
         truth = {o["name"]: np.array(o["pose"]) for o in gt["objects"]}
         for name, got in zip(names, result.objects):
-            lo, hi = vertices[name].min(axis=0), vertices[name].max(axis=0)
-            centre = 0.5 * (lo + hi)
-            diameter = float(np.linalg.norm(hi - lo))
             ok, text = False, "no pose"
             if got.pose is not None:
-                pose = np.array(got.pose)
-                t_err = np.linalg.norm(pose[:3, :3] @ centre + pose[:3, 3] -
-                                       truth[name][:3, :3] @ centre - truth[name][:3, 3])
-                a = adds(samples[name], pose, truth[name])
-                ok = t_err < 0.01 and a < 0.1 * diameter
+                ok, t_err, a = scorers[name].score(got.pose, truth[name])
                 text = f"centre {1e3 * t_err:.1f} mm, ADD-S {1e3 * a:.1f} mm"
             ms = got.refine_ms + got.verify_ms + got.search_ms + got.reacquire_ms
             if k > 0:

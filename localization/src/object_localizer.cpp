@@ -117,37 +117,96 @@ std::vector<pcl::index_t> sortedIndices(pcl::Indices s) {
   return s;
 }
 
+/** An accepted hypothesis: objects[object].clusters[index]. */
+struct Claimant {
+  int object = 0;
+  int index = 0;
+  double score = 0.0;
+};
+
+/** The greedy choice of rankInstances and selectInstances: \a claimants by score (ties: the
+ * lower object, then the lower index), each kept unless more than \a max_shared of its
+ * \a explained points are claimed by a kept one, or its object has \a caps of them already.
+ * \a lost(claimant, winner object, winner's rank in its object) is told of a claimant whose
+ * points another object's instance holds. */
+template <typename Explained, typename Lost>
+std::vector<std::vector<int>> chooseInstances(std::vector<Claimant> claimants,
+                                              const std::vector<int>& caps, double max_shared,
+                                              Explained explained, Lost lost) {
+  std::stable_sort(claimants.begin(), claimants.end(), [](const Claimant& a, const Claimant& b) {
+    if (a.score != b.score)
+      return a.score > b.score;
+    return a.object != b.object ? a.object < b.object : a.index < b.index;
+  });
+  std::vector<std::vector<int>> kept(caps.size());
+  struct Claim {
+    std::vector<pcl::index_t> points;
+    int object, rank;
+  };
+  std::vector<Claim> claims;
+  for (const Claimant& c : claimants) {
+    auto& mine = kept[static_cast<std::size_t>(c.object)];
+    if (static_cast<int>(mine.size()) >= caps[static_cast<std::size_t>(c.object)])
+      continue;
+    std::vector<pcl::index_t> points = sortedIndices(explained(c));
+    // Each scene point explains one instance: a pose that explains the points of a better one
+    // is the same object found again (in a merged cluster and in its convexity segment) or,
+    // for another model, a worse explanation of that object.
+    const double limit = max_shared * static_cast<double>(points.size());
+    const auto holder = std::find_if(claims.begin(), claims.end(), [&](const Claim& other) {
+      return static_cast<double>(sharedPoints(points, other.points)) > limit;
+    });
+    if (holder != claims.end()) {
+      if (holder->object != c.object)
+        lost(c, holder->object, holder->rank);
+      continue;
+    }
+    claims.push_back({std::move(points), c.object, static_cast<int>(mine.size())});
+    mine.push_back(c.index);
+  }
+  return kept;
+}
+
 }  // namespace
 
 std::vector<int> rankInstances(const std::vector<ClusterLocalization>& clusters, int max_instances,
                                double max_shared) {
-  std::vector<int> order;
+  std::vector<Claimant> claimants;
   for (std::size_t k = 0; k < clusters.size(); ++k)
     if (clusters[k].accepted)
-      order.push_back(static_cast<int>(k));
-  // By score, ties by index: deterministic.
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    return clusters[static_cast<std::size_t>(a)].score >
-           clusters[static_cast<std::size_t>(b)].score;
-  });
-  std::vector<int> instances;
-  std::vector<std::vector<pcl::index_t>> claimed;
-  for (int k : order) {
-    if (static_cast<int>(instances.size()) >= max_instances)
-      break;
-    const std::vector<pcl::index_t> points =
-        sortedIndices(clusters[static_cast<std::size_t>(k)].explained);
-    // Each scene point explains one instance: a pose that explains the points of a better one
-    // (found again in a merged cluster and in its convexity segment) is the same object.
-    const double limit = max_shared * static_cast<double>(points.size());
-    if (std::any_of(claimed.begin(), claimed.end(), [&](const auto& other) {
-          return static_cast<double>(sharedPoints(points, other)) > limit;
-        }))
-      continue;
-    instances.push_back(k);
-    claimed.push_back(points);
-  }
-  return instances;
+      claimants.push_back({0, static_cast<int>(k), clusters[k].score});
+  const auto explained = [&](const Claimant& c) {
+    return clusters[static_cast<std::size_t>(c.index)].explained;
+  };
+  return chooseInstances(std::move(claimants), {max_instances}, max_shared, explained,
+                         [](const Claimant&, int, int) {})
+      .front();
+}
+
+std::vector<std::vector<int>> selectInstances(std::vector<Localization>& objects,
+                                              const std::vector<int>& max_instances,
+                                              const std::vector<std::string>& names,
+                                              double max_shared) {
+  if (max_instances.size() != objects.size() || names.size() != objects.size())
+    throw std::invalid_argument(
+        "[pcl::icf::localization::selectInstances] one instance count and one name per object");
+  std::vector<Claimant> claimants;
+  for (std::size_t o = 0; o < objects.size(); ++o)
+    for (std::size_t k = 0; k < objects[o].clusters.size(); ++k)
+      if (objects[o].clusters[k].accepted)
+        claimants.push_back(
+            {static_cast<int>(o), static_cast<int>(k), objects[o].clusters[k].score});
+  const auto cluster = [&](const Claimant& c) -> ClusterLocalization& {
+    return objects[static_cast<std::size_t>(c.object)].clusters[static_cast<std::size_t>(c.index)];
+  };
+  const auto explained = [&](const Claimant& c) { return cluster(c).explained; };
+  const auto lost = [&](const Claimant& c, int winner, int rank) {
+    ClusterLocalization& loser = cluster(c);
+    loser.accepted = false;
+    loser.reason = "explained better by " + names[static_cast<std::size_t>(winner)] + " instance " +
+                   std::to_string(rank);
+  };
+  return chooseInstances(std::move(claimants), max_instances, max_shared, explained, lost);
 }
 
 namespace detail {
@@ -160,6 +219,23 @@ double shareInFront(const std::vector<Eigen::Vector3f>& points) {
       in_front += p.z() > 0.f ? 1 : 0;
     }
   return finite > 0 ? static_cast<double>(in_front) / static_cast<double>(finite) : 1.0;
+}
+
+void validateQueries(const std::vector<ObjectQuery>& objects, const LocalizerParams& params) {
+  const std::string where = "[pcl::icf::localization::localizeObjects] ";
+  if (objects.empty())
+    throw std::invalid_argument(where + "no object to find");
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    if (!objects[k].model)
+      throw std::invalid_argument(where + "object " + std::to_string(k) + " has no model");
+    if (objects[k].max_instances < 1)
+      throw std::invalid_argument(where + "object " + std::to_string(k) +
+                                  ": max_instances must be at least 1");
+  }
+  if (objects.size() > 1 && params.colour.expected)
+    throw std::invalid_argument(where +
+                                "the colour cue describes one object: unset colour.expected "
+                                "when several are asked for");
 }
 
 void toSceneFrame(Localization& loc, const Eigen::Isometry3f& camera_to_scene) {
@@ -686,67 +762,143 @@ std::string searchRound(const SceneView& view, const std::vector<pcl::PointIndic
   return ranked.empty() ? noHypothesisMessage(model, candidates.size(), scene.points.size()) : "";
 }
 
+/** The name refusals give object \a k of \a objects. */
+std::string objectName(const std::vector<ObjectQuery>& objects, std::size_t k) {
+  return objects[k].name.empty() ? "object " + std::to_string(k) : objects[k].name;
+}
+
+/** \a out's instances, best, status and message from its judged hypotheses and \a kept. */
+void conclude(Localization& out, std::vector<int> kept, const std::string& no_hypothesis) {
+  out.instances = std::move(kept);
+  out.best = out.instances.empty() ? -1 : out.instances.front();
+  out.status = out.best >= 0 ? LocalizationStatus::Found : LocalizationStatus::NotFound;
+  if (out.best < 0)
+    out.message = out.clusters.empty() ? no_hypothesis : notFoundMessage(out.clusters);
+}
+
 }  // namespace
 
-Localization localizeInView(const SceneView& view, segmentation::TabletopSegmentation segmentation,
-                            const IcfModel& model, const LocalizerParams& params,
-                            double segmentation_ms) {
-  const auto start = std::chrono::steady_clock::now();
+ObjectsLocalization localizeObjectsInView(const SceneView& view,
+                                          segmentation::TabletopSegmentation segmentation,
+                                          const std::vector<ObjectQuery>& objects,
+                                          const LocalizerParams& params, double segmentation_ms) {
+  using Clock = std::chrono::steady_clock;
+  const auto msSince = [](Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+  };
+  const auto start = Clock::now();
+  const std::size_t n = objects.size();
+  ObjectsLocalization all;
+  const auto stopped = [&](Localization one) {
+    all.status = one.status;
+    all.message = one.message;
+    all.objects.assign(n, one);
+    all.segmentation = std::move(one.segmentation);
+    all.scene_ms = all.total_ms = one.total_ms;
+    return all;
+  };
   if (params.segment && segmentation.status != segmentation::TabletopStatus::Ok)
-    return segmentationStopped(view, std::move(segmentation), params, segmentation_ms);
-  Localization out;
-  out.segmentation_ms = segmentation_ms;
+    return stopped(segmentationStopped(view, std::move(segmentation), params, segmentation_ms));
   std::vector<pcl::PointIndices> clusters;
   if (params.segment) {
     clusters = segmentation.clusters;
   } else {
     clusters.push_back(wholeCloud(view));
     if (clusters.front().indices.empty()) {
-      out.status = LocalizationStatus::BadScene;
-      out.message = "the cloud has no finite point";
-      return out;
+      Localization bad;
+      bad.status = LocalizationStatus::BadScene;
+      bad.message = "the cloud has no finite point";
+      bad.total_ms = segmentation_ms;
+      return stopped(std::move(bad));
     }
   }
-  out.segmentation = std::move(segmentation);
   withoutExplainedPoints(clusters, view, params.explained_indices,
                          params.segmentation.cluster.min_size);
   // What the camera saw, the table marked as background (an object standing on it would
   // otherwise seem to carry on into the table at its base).
   // (Without segmentation the plane has no inliers: nothing is background.)
-  DepthImage image = sceneDepthImage(view, out.segmentation.plane.inliers, params);
+  DepthImage image = sceneDepthImage(view, segmentation.plane.inliers, params);
   const int threads = params.threads > 0 ? params.threads : omp_get_num_procs();
-  // Rounds of hypotheses, ranking and judging; after a round that accepts a pose, the points
-  // it explains are left out and the rest is searched again, until max_instances are found.
+  all.scene_ms = segmentation_ms + msSince(start);
+
+  std::vector<LocalizerParams> own(n, params);
+  std::vector<int> caps(n);
+  std::vector<std::string> names(n);
+  int rounds = 0;
+  all.objects.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    own[k].max_instances = caps[k] = objects[k].max_instances;
+    names[k] = objectName(objects, k);
+    rounds = std::max(rounds, caps[k]);
+    all.objects[k].segmentation = segmentation;
+    all.objects[k].segmentation_ms = segmentation_ms;
+  }
+  // Rounds of hypotheses, ranking and judging for every object still searching; then one
+  // selection over all objects' accepted poses. After a round that keeps new instances, the
+  // points they explain are left out and the rest is searched again; an object stops when it
+  // has its instances or its round accepts nothing new.
   std::vector<int> explained = params.explained_indices;
-  std::string no_hypothesis;
-  for (int round = 0; round < params.max_instances; ++round) {
-    const std::size_t accepted_before = acceptedCount(out.clusters);
-    const std::string nothing =
-        searchRound(view, clusters, image, model, params, explained, threads, out);
-    if (round == 0)
-      no_hypothesis = nothing;
-    const std::vector<int> instances =
-        rankInstances(out.clusters, params.max_instances, params.max_shared_points);
-    if (static_cast<int>(instances.size()) >= params.max_instances ||
-        acceptedCount(out.clusters) == accepted_before)
+  std::vector<std::string> no_hypothesis(n);
+  std::vector<bool> searching(n, true);
+  std::vector<double> own_ms(n, 0.0);
+  std::vector<std::vector<int>> kept(n);
+  for (int round = 0; round < rounds; ++round) {
+    std::vector<bool> accepted_new(n, false);
+    for (std::size_t k = 0; k < n; ++k) {
+      if (!searching[k] || round >= caps[k])
+        continue;
+      const auto began = Clock::now();
+      Localization& out = all.objects[k];
+      const std::size_t accepted_before = acceptedCount(out.clusters);
+      const std::string nothing =
+          searchRound(view, clusters, image, *objects[k].model, own[k], explained, threads, out);
+      if (round == 0)
+        no_hypothesis[k] = nothing;
+      accepted_new[k] = acceptedCount(out.clusters) > accepted_before;
+      own_ms[k] += msSince(began);
+    }
+    const auto selection = Clock::now();
+    std::vector<std::vector<int>> now =
+        selectInstances(all.objects, caps, names, params.max_shared_points);
+    bool more = false;
+    for (std::size_t k = 0; k < n; ++k) {
+      searching[k] = searching[k] && accepted_new[k] && static_cast<int>(now[k].size()) < caps[k];
+      more = more || (searching[k] && round + 1 < caps[k]);
+    }
+    kept = std::move(now);
+    all.selection_ms += msSince(selection);
+    if (!more)
       break;
-    for (const int k : instances)
-      for (const auto i : out.clusters[static_cast<std::size_t>(k)].explained)
-        explained.push_back(static_cast<int>(i));
+    for (std::size_t k = 0; k < n; ++k)
+      for (const int h : kept[k])
+        for (const auto i : all.objects[k].clusters[static_cast<std::size_t>(h)].explained)
+          explained.push_back(static_cast<int>(i));
     std::sort(explained.begin(), explained.end());
     explained.erase(std::unique(explained.begin(), explained.end()), explained.end());
     image.markExplained(view.points, explained);
   }
 
-  out.instances = rankInstances(out.clusters, params.max_instances, params.max_shared_points);
-  out.best = out.instances.empty() ? -1 : out.instances.front();
-  out.status = out.best >= 0 ? LocalizationStatus::Found : LocalizationStatus::NotFound;
-  if (out.best < 0)
-    out.message = out.clusters.empty() ? no_hypothesis : notFoundMessage(out.clusters);
-  out.registration_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  out.total_ms = out.segmentation_ms + out.registration_ms;
-  return out;
+  for (std::size_t k = 0; k < n; ++k) {
+    Localization& out = all.objects[k];
+    conclude(out, kept[k], no_hypothesis[k]);
+    out.registration_ms = all.scene_ms - segmentation_ms + own_ms[k] + all.selection_ms;
+    out.total_ms = out.segmentation_ms + out.registration_ms;
+    for (const int h : out.instances)
+      all.instances.push_back({static_cast<int>(k), h});
+  }
+  std::stable_sort(all.instances.begin(), all.instances.end(),
+                   [&](const ObjectInstance& a, const ObjectInstance& b) {
+                     const auto score = [&](const ObjectInstance& i) {
+                       return all.objects[static_cast<std::size_t>(i.object)]
+                           .clusters[static_cast<std::size_t>(i.hypothesis)]
+                           .score;
+                     };
+                     return score(a) > score(b);
+                   });
+  all.status = all.instances.empty() ? LocalizationStatus::NotFound : LocalizationStatus::Found;
+  all.segmentation = std::move(segmentation);
+  all.total_ms = segmentation_ms + msSince(start);
+  return all;
 }
 
 }  // namespace detail
@@ -763,6 +915,15 @@ template Localization localizeObject<pcl::PointXYZRGB>(const pcl::PointCloud<pcl
                                                        const IcfModel&, const LocalizerParams&);
 template Localization localizeObject<pcl::PointXYZRGBA>(const pcl::PointCloud<pcl::PointXYZRGBA>&,
                                                         const IcfModel&, const LocalizerParams&);
+template ObjectsLocalization localizeObjects<pcl::PointXYZ>(const pcl::PointCloud<pcl::PointXYZ>&,
+                                                            const std::vector<ObjectQuery>&,
+                                                            const LocalizerParams&);
+template ObjectsLocalization localizeObjects<pcl::PointXYZRGB>(
+    const pcl::PointCloud<pcl::PointXYZRGB>&, const std::vector<ObjectQuery>&,
+    const LocalizerParams&);
+template ObjectsLocalization localizeObjects<pcl::PointXYZRGBA>(
+    const pcl::PointCloud<pcl::PointXYZRGBA>&, const std::vector<ObjectQuery>&,
+    const LocalizerParams&);
 
 }  // namespace localization
 }  // namespace icf

@@ -21,6 +21,7 @@
 #include <pcl/icf/io/mesh_io.h>
 #include <pcl/icf/io/scene_io.h>
 #include <pcl/icf/localization/object_localizer.h>
+#include <pcl/icf/localization/objects_localizer.h>
 
 #include <chrono>
 #include <cstddef>
@@ -196,6 +197,66 @@ py::object localize(const py::args& args, const py::kwargs& kwargs) {
   return localizationNamespace(loc, msSince(start));
 }
 
+/** localize_many(scene_xyz, models, rgb=None, camera=None, names=None, counts=None, **params). */
+py::object localizeMany(const py::array& xyz, const py::list& models, const py::object& rgb,
+                        const py::object& camera, const py::object& names, const py::object& counts,
+                        const py::kwargs& kwargs) {
+  const auto start = std::chrono::steady_clock::now();
+  if (models.empty())
+    throw py::value_error("localize_many(): models is empty");
+  std::vector<localization::ObjectQuery> queries;
+  for (std::size_t k = 0; k < models.size(); ++k) {
+    if (!py::isinstance<Model>(models[k]))
+      throw py::type_error("localize_many(): models[" + std::to_string(k) +
+                           "] is not a pcl_icf.Model");
+    queries.push_back({models[k].cast<const Model&>().icf, "object " + std::to_string(k), 1});
+  }
+  const auto perObject = [&](const py::object& list, const char* what, auto set) {
+    if (list.is_none())
+      return;
+    const auto values = list.cast<py::list>();
+    if (values.size() != queries.size())
+      throw py::value_error(std::string("localize_many(): ") + what + " needs one entry per model");
+    for (std::size_t k = 0; k < queries.size(); ++k)
+      set(queries[k], values[k]);
+  };
+  perObject(names, "names", [](localization::ObjectQuery& q, const py::handle& v) {
+    q.name = v.cast<std::string>();
+  });
+  perObject(counts, "counts", [](localization::ObjectQuery& q, const py::handle& v) {
+    q.max_instances = v.cast<int>();
+    if (q.max_instances < 1)
+      throw py::value_error("localize_many(): every count must be at least 1");
+  });
+  localization::LocalizerParams params;
+  applyLocalizerKwargs(params, kwargs);
+  if (!camera.is_none())
+    params.camera_pose = rigidPose(camera, "camera");
+  const auto cloud = sceneCloud(xyz, rgb, "scene_xyz", "rgb");
+  localization::ObjectsLocalization all;
+  {
+    py::gil_scoped_release release;
+    all = localization::localizeObjects(cloud, queries, params);
+  }
+  const double call_ms = msSince(start);
+  py::list objects;
+  for (const auto& loc : all.objects)
+    objects.append(localizationNamespace(loc, call_ms));
+  py::list instances;
+  for (const auto& i : all.instances)
+    instances.append(py::make_tuple(i.object, objects[static_cast<std::size_t>(i.object)].attr(
+                                                  "clusters")[py::int_(i.hypothesis)]));
+  py::dict timing;
+  timing["scene_ms"] = all.scene_ms;
+  timing["selection_ms"] = all.selection_ms;
+  timing["total_ms"] = all.total_ms;
+  timing["call_ms"] = call_ms;
+  return makeNamespace(py::dict("status"_a = localization::toString(all.status),
+                                "message"_a = all.message, "found"_a = !all.instances.empty(),
+                                "objects"_a = objects, "instances"_a = instances,
+                                "timing"_a = timing));
+}
+
 py::object estimatePose(const py::array& cluster_xyz, const Model& model, const py::object& guess,
                         const py::object& camera, const py::kwargs& kwargs) {
   pcl::icf::IcfParams params;
@@ -323,6 +384,17 @@ PYBIND11_MODULE(pcl_icf, m) {
         "params: see localize_defaults(). Returns a namespace with status, message,\n"
         "found, instances (best first), best, clusters, camera_pose and timing; each instance\n"
         "has pose (4x4), confidence, verification terms, quality, alternatives, time_ms.");
+  m.def("localize_many", &pip::localizeMany, py::arg("scene_xyz"), py::arg("models"),
+        py::arg("rgb") = py::none(), py::arg("camera") = py::none(), py::arg("names") = py::none(),
+        py::arg("counts") = py::none(),
+        "localize_many(scene_xyz, models, rgb=None, camera=None, names=None, counts=None,\n"
+        "**params): every model of the list found in one pass (localizeObjects): the scene's\n"
+        "work once, one selection in which each scene point explains one pose at most (a pose\n"
+        "that loses its points to another model's is refused: 'explained better by NAME\n"
+        "instance K'). names: what refusals call each model (default 'object K'); counts: at\n"
+        "most that many instances of each (default 1). params as localize(). Returns a\n"
+        "namespace with status, message, found, objects (one localize() result per model),\n"
+        "instances (every accepted (object index, instance), best first) and timing.");
   m.def("estimate_pose", &pip::estimatePose, py::arg("cluster_xyz"), py::arg("model"),
         py::arg("guess") = py::none(), py::arg("camera") = py::none(),
         "estimate_pose(cluster_xyz, model, guess=None, camera=None, **params): the model's pose "

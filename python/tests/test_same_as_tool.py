@@ -121,3 +121,48 @@ def test_exact_mesh_is_the_tools_in_any_order(tool, tmp_path, box_model,
     default = localize()
     assert default.found
     assert residuals(localize(exact_mesh=False)) == residuals(default)
+
+
+def crate_model(tmp_path):
+    """A 40 x 30 x 20 cm box, written as PLY: not on the demo table."""
+    corners = [(x, y, z) for x in (-0.2, 0.2) for y in (-0.15, 0.15) for z in (-0.1, 0.1)]
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    path = tmp_path / "crate.ply"
+    path.write_text("ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\n"
+                    "property float y\nproperty float z\nelement face 6\n"
+                    "property list uchar int vertex_indices\nend_header\n" +
+                    "".join(f"{x} {y} {z}\n" for x, y, z in corners) +
+                    "".join(f"4 {a} {b} {c} {d}\n" for a, b, c, d in quads))
+    return path
+
+
+def test_localize_many_is_the_tools(tool, tmp_path, box_model, demo_scene):
+    # The demo's box and a crate that is not there, in one call, as the tool's several-MODEL
+    # run gives them.
+    crate = crate_model(tmp_path)
+    out = tmp_path / "frame.json"
+    run = subprocess.run([tool, str(DEMO / "tabletop_box5.pcd"), str(DEMO / "box5.ply"),
+                          str(crate), "--json", str(out), "--quiet"], check=False)
+    assert run.returncode == 0, run
+    expected = json.loads(out.read_text())
+    result = pcl_icf.localize_many(demo_scene.xyz, [box_model, pcl_icf.Model.from_file(str(crate))],
+                                   rgb=demo_scene.rgb, camera=demo_scene.camera_pose,
+                                   names=["box5.ply", "crate.ply"])
+    assert result.status == expected["status"] == "Found"
+    assert [o.found for o in result.objects] == [True, False]
+    for got, want in zip(result.objects, expected["objects"]):
+        assert_same(got, want)
+    assert [(k, c.cluster) for k, c in result.instances] == [
+        (i["object"], i["cluster"]) for i in expected["instances"]]
+    assert result.timing["scene_ms"] > 0
+
+
+def test_localize_many_bad_lists(box_model, demo_scene):
+    with pytest.raises(ValueError, match="empty"):
+        pcl_icf.localize_many(demo_scene.xyz, [])
+    with pytest.raises(TypeError, match="models\\[1\\]"):
+        pcl_icf.localize_many(demo_scene.xyz, [box_model, "box5.ply"])
+    with pytest.raises(ValueError, match="one entry per model"):
+        pcl_icf.localize_many(demo_scene.xyz, [box_model], counts=[1, 2])
+    with pytest.raises(ValueError, match="at least 1"):
+        pcl_icf.localize_many(demo_scene.xyz, [box_model], counts=[0])

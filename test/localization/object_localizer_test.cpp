@@ -2,6 +2,7 @@
 // the target must be found in the right cluster at the right pose, among distractors that
 // beat it on point count; scenario 6, where the thesis failed, with the colour cue. Real data:
 // the YCB-Video frame, whose four objects touch and merge into one cluster.
+#include "real_truth.h"
 #include "synthetic/depth_camera.h"
 #include "synthetic/pose_error.h"
 #include "synthetic/synthetic_clutter.h"
@@ -466,26 +467,7 @@ INSTANTIATE_TEST_SUITE_P(
 // centre within 1 cm of the truth modulo its 180-degree flips about its own axes (depth alone
 // cannot tell a box from its flip, and the meat can's flip explains the depth better than the
 // annotated pose: a turn replaces it), ADD-S under 10% of the object's diameter.
-Eigen::Isometry3d ycbTruth(const std::string& gt_path, const std::string& key) {
-  std::ifstream in(gt_path);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::size_t at = text.find(key);
-  EXPECT_NE(at, std::string::npos) << key;
-  at = text.find('[', at);
-  Eigen::Matrix4d m;
-  int filled = 0;
-  const char* p = text.c_str() + at;
-  while (filled < 16 && *p) {
-    if ((*p >= '0' && *p <= '9') || *p == '-' || *p == '.') {
-      char* end = nullptr;
-      m(filled / 4, filled % 4) = std::strtod(p, &end);
-      ++filled;
-      p = end;
-    } else
-      ++p;
-  }
-  return Eigen::Isometry3d(m);
-}
+using pcl_icf_test::ycbTruth;
 
 class YcbObjects : public ::testing::TestWithParam<std::string> {};
 

@@ -477,6 +477,58 @@ TEST_F(Tool, ViewerPrintsTheClickedPoint) {
   EXPECT_LT(z, 1.0);
 }
 
+// Several MODELs: one pass, one JSON for the frame. Box5 is on the demo table, a 40 x 30 x
+// 20 cm crate is not; the list file asks for up to two boxes. The box at its known pose, the
+// crate not found, one instance in the frame's list.
+TEST_F(Tool, SeveralModelsOneCallOneDocument) {
+  pcl::io::savePLYFile(path("crate.ply"), pcl::icf::synthetic::makeBox(0.40, 0.30, 0.20));
+  {
+    std::ofstream list(path("models.txt"));
+    list << "# the demo's box, at most two, and a crate\n" << demo("box5.ply") << " 2\ncrate.ply\n";
+  }
+  const Result r = run(quote(demo("tabletop_box5.pcd")) + " --models " + quote(path("models.txt")) +
+                       " --json " + quote(path("r.json")));
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("crate.ply"), std::string::npos) << r.out;
+  const json j = json::parse(slurp(path("r.json")));
+  EXPECT_EQ(j["exit_code"], 0);
+  ASSERT_EQ(j["objects"].size(), 2u);
+  const json& box = j["objects"][0];
+  EXPECT_EQ(box["name"], "box5.ply");
+  EXPECT_EQ(box["max_instances"], 2);
+  EXPECT_EQ(box["status"], "Found");
+  ASSERT_EQ(box["instances"].size(), 1u) << "one box on the table";
+  const auto error = pcl::icf::synthetic::poseError(
+      poseOf(box["instances"][0]), readTruth(demo("tabletop_box5_truth.txt")),
+      pcl::icf::synthetic::thesisModel("Box5").symmetry);
+  EXPECT_LT(error.translation, kMaxTranslation);
+  EXPECT_LT(error.rotation_deg, kMaxRotationDeg);
+  EXPECT_NE(j["objects"][1]["status"], "Found");
+  EXPECT_TRUE(j["objects"][1]["instances"].empty());
+  ASSERT_EQ(j["instances"].size(), 1u);
+  EXPECT_EQ(j["instances"][0]["name"], "box5.ply");
+  for (const char* key : {"scene", "selection", "localization", "total"})
+    EXPECT_TRUE(j["timing_ms"].contains(key)) << key;
+
+  // What one pass cannot do yet, and bad lists: exit 2 with the reason.
+  const std::string two = quote(demo("tabletop_box5.pcd")) + " " + quote(demo("box5.ply")) + " " +
+                          quote(path("crate.ply"));
+  const Result render = run(two + " --render " + quote(path("r.png")));
+  EXPECT_EQ(render.code, 2);
+  EXPECT_NE(render.err.find("--json"), std::string::npos) << render.err;
+  const Result missing =
+      run(quote(demo("tabletop_box5.pcd")) + " --models " + quote(path("nothing.txt")));
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.err.find("cannot be read"), std::string::npos) << missing.err;
+  {
+    std::ofstream list(path("bad.txt"));
+    list << "crate.ply zero\n";
+  }
+  const Result bad = run(quote(demo("tabletop_box5.pcd")) + " --models " + quote(path("bad.txt")));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("line 1"), std::string::npos) << bad.err;
+}
+
 TEST_F(Tool, HelpPrintsUsage) {
   const Result r = run("-h");
   EXPECT_EQ(r.code, 0);

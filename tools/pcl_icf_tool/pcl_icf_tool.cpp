@@ -11,6 +11,7 @@
 // One scene: tool_run (inputs, localisation), tool_results (JSON, report, files); many:
 // tool_batch.
 #include "tool_batch.h"
+#include "tool_many.h"
 #include "tool_options.h"
 #include "tool_output.h"
 #include "tool_render.h"
@@ -34,7 +35,8 @@ using namespace pcl_icf_tool;
 
 /** Everything a single run would refuse to write, checked before any work. */
 void checkSingleOutputs(const ToolOptions& options) {
-  const std::vector<std::string> inputs = {options.scene, options.model};
+  std::vector<std::string> inputs = {options.scene, options.model};
+  inputs.insert(inputs.end(), options.models.begin(), options.models.end());
   if (!options.json.empty())
     pcl_icf_tool::checkOutputPath("--json", options.json, inputs, options.force);
   if (!options.output.empty())
@@ -144,7 +146,9 @@ int main(int argc, char** argv) {
     const std::string display = pcl_icf_tool::ensureDisplayOrReexec(argc, argv, render);
     if (!display.empty())
       throw OutputError(display);
-    return options.batch.empty() ? runSingle(options) : runBatch(options);
+    if (!options.batch.empty())
+      return runBatch(options);
+    return options.models.empty() ? runSingle(options) : runMany(options);
   } catch (const BadInput& e) {
     std::fprintf(stderr, "%s: error: %s\n", kProgram, e.what());
     return 2;

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -169,9 +171,43 @@ bool parseLocalizerOption(const std::string& a, ArgumentReader& args,
   return true;
 }
 
+/** Appends --models LIST's entries ("MODEL [COUNT]" a line, '#' comments, paths relative to
+ * the list's folder) to \a models and their counts (\a default_count where none is given) to
+ * \a counts. \throws UsageError. */
+void readModelList(const std::string& list, int default_count, std::vector<std::string>& models,
+                   std::vector<int>& counts) {
+  std::ifstream in(list);
+  if (!in)
+    throw UsageError("--models " + list + ": cannot be read");
+  const std::filesystem::path folder = std::filesystem::path(list).parent_path();
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    line = line.substr(0, line.find('#'));
+    std::istringstream fields(line);
+    std::string path, count, extra;
+    if (!(fields >> path))
+      continue;
+    const std::string where = "--models " + list + " line " + std::to_string(number);
+    int n = default_count;
+    if (fields >> count)
+      n = static_cast<int>(parseInteger(where, count, 1, 1000));
+    if (fields >> extra)
+      throw UsageError(where + ": expected MODEL [COUNT], got more");
+    const std::filesystem::path p(path);
+    models.push_back(p.is_absolute() ? path : (folder / p).string());
+    counts.push_back(n);
+  }
+  if (models.empty())
+    throw UsageError("--models " + list + ": no model listed");
+}
+
 /** The mode (one scene, --batch or --track) from the positional arguments, and the options
  * that belong to another mode refused. \throws UsageError. */
 void checkMode(ToolOptions& o, const std::vector<std::string>& positional, bool idle_given) {
+  if (!o.models_list.empty() && (!o.track.empty() || !o.batch.empty()))
+    throw UsageError(
+        "--models is for one scene; --track and --batch take their MODELs as "
+        "arguments");
   if (!o.track.empty()) {
     if (positional.empty() || !o.batch.empty() || !o.out_dir.empty() || !o.json.empty() ||
         !o.output.empty() || !o.render.empty() || o.view || o.render_all || o.output_all)
@@ -195,13 +231,25 @@ void checkMode(ToolOptions& o, const std::vector<std::string>& positional, bool 
           "--json, --output, --render and --view are for one scene; with --batch "
           "use --out-dir, --render-all and --output-all");
   } else {
-    if (positional.size() != 2)
-      throw UsageError(positional.size() < 2 ? "expected SCENE and MODEL (see -h)"
-                                             : "too many arguments: expected SCENE MODEL");
+    if (positional.empty() || (positional.size() < 2 && o.models_list.empty()))
+      throw UsageError("expected SCENE and MODEL (see -h)");
     o.scene = positional[0];
-    o.model = positional[1];
     if (!o.out_dir.empty() || o.render_all || o.output_all)
       throw UsageError("--out-dir, --render-all and --output-all need --batch");
+    o.models.assign(positional.begin() + 1, positional.end());
+    o.model_counts.assign(o.models.size(), o.params.max_instances);
+    if (!o.models_list.empty())
+      readModelList(o.models_list, o.params.max_instances, o.models, o.model_counts);
+    if (o.models.size() == 1) {
+      o.model = o.models.front();
+      o.params.max_instances = o.model_counts.front();
+      o.models.clear();
+      o.model_counts.clear();
+    } else if (!o.output.empty() || !o.render.empty() || o.view) {
+      throw UsageError("--output, --render and --view take one MODEL; for several, --json");
+    } else if (o.params.colour.expected) {
+      throw UsageError("--color describes one object: give one MODEL with it");
+    }
   }
 }
 
@@ -273,7 +321,9 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
     } else if (a == "--idle-seconds") {
       o.idle_seconds = parsePositive(a, args.value(a));
       idle_given = true;
-    } else if (a == "--out-dir")
+    } else if (a == "--models")
+      o.models_list = args.value(a);
+    else if (a == "--out-dir")
       o.out_dir = args.value(a);
     else if (a == "--render-all") {
       args.noValue(a);
@@ -310,9 +360,15 @@ std::string usageText(const std::string& program) {
   u << "Finds the 6D pose of a CAD mesh in a depth scan by Iterative Closest Face.\n"
     << "\n"
     << "Syntax is: " << program << " SCENE MODEL <options>\n"
+    << "       or: " << program << " SCENE MODEL MODEL... | --models LIST <options>\n"
     << "       or: " << program << " --batch SCENES MODEL --out-dir DIR <options>\n"
     << "  SCENE  a point cloud: .pcd, .ply, or .xyz/.asc (one \"x y z\" per line)\n"
-    << "  MODEL  the object's mesh: .ply, .obj, .stl or .vtk\n"
+    << "  MODEL  the object's mesh: .ply, .obj, .stl or .vtk; with several, every one is\n"
+    << "         searched for in one pass and each scene point explains one pose at most\n"
+    << "    --models LIST            = more MODELs, from a file: \"MODEL [COUNT]\" a line\n"
+    << "                               (COUNT: at most that many instances, default\n"
+    << "                               --max-instances;\n"
+    << "                               paths relative to the file's folder, '#' comments)\n"
     << "  where options are:\n"
     << "  Input:\n"
     << "    --units m|mm|auto        = the scene's units (default: auto, millimetres when the\n"

@@ -45,7 +45,12 @@ struct ToolOptions {
   /** --track FRAMES: a directory of frames (name order) or a list file, as --batch; every
    * positional argument is a MODEL to follow (tool_track). */
   std::string track;
-  std::vector<std::string> models;  ///< --track's MODELs
+  /** --track's MODELs; in single mode every MODEL after SCENE and --models LIST's, when more
+   * than one object is asked for (tool_many). */
+  std::vector<std::string> models;
+  /** --models LIST's instance counts, one per entry of models (1 where not given). */
+  std::vector<int> model_counts;
+  std::string models_list;  ///< --models LIST: "MODEL [COUNT]" a line, '#' comments
   /** --render-dir DIR (track): DIR/NNNN_<frame>.png per frame, the tracked poses drawn. */
   std::string render_dir;
   /** --follow (track): FRAMES is a folder watched for new frames until --idle-seconds pass

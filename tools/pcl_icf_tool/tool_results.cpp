@@ -45,6 +45,42 @@ json alternativesJson(const localization::ClusterLocalization& c, const Scene& s
   return list;
 }
 
+/** j.dump(2) with every array of numbers on one line ("pose": [[r00, r01, ...], ...]). A '['
+ * followed by a line break is never inside a JSON string, so strings are left alone. */
+std::string prettyJson(const json& j) {
+  const std::string text = j.dump(2);
+  std::string out;
+  out.reserve(text.size());
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '[' && i + 1 < text.size() && text[i + 1] == '\n') {
+      const std::size_t close = text.find(']', i);
+      const std::string body =
+          close == std::string::npos ? std::string() : text.substr(i + 1, close - i - 1);
+      if (!body.empty() && body.find_first_not_of("0123456789+-.eE, \n") == std::string::npos) {
+        out += '[';
+        bool space = false;
+        for (const char c : body) {
+          if (c == ' ' || c == '\n') {
+            space = true;
+            continue;
+          }
+          if (space && out.back() == ',')
+            out += ' ';
+          space = false;
+          out += c;
+        }
+        out += ']';
+        i = close;
+        continue;
+      }
+    }
+    out += text[i];
+  }
+  return out;
+}
+
+}  // namespace
+
 json clusterJson(const localization::ClusterLocalization& c, int index, const Scene& scene) {
   const Eigen::Matrix4d pose = scenePose(c, scene.metres_per_unit);
   const Eigen::Quaterniond q = quaternionOf(pose);
@@ -87,42 +123,6 @@ json clusterJson(const localization::ClusterLocalization& c, int index, const Sc
   j["time_ms"] = c.icf.time_ms;
   return j;
 }
-
-/** j.dump(2) with every array of numbers on one line ("pose": [[r00, r01, ...], ...]). A '['
- * followed by a line break is never inside a JSON string, so strings are left alone. */
-std::string prettyJson(const json& j) {
-  const std::string text = j.dump(2);
-  std::string out;
-  out.reserve(text.size());
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    if (text[i] == '[' && i + 1 < text.size() && text[i + 1] == '\n') {
-      const std::size_t close = text.find(']', i);
-      const std::string body =
-          close == std::string::npos ? std::string() : text.substr(i + 1, close - i - 1);
-      if (!body.empty() && body.find_first_not_of("0123456789+-.eE, \n") == std::string::npos) {
-        out += '[';
-        bool space = false;
-        for (const char c : body) {
-          if (c == ' ' || c == '\n') {
-            space = true;
-            continue;
-          }
-          if (space && out.back() == ',')
-            out += ' ';
-          space = false;
-          out += c;
-        }
-        out += ']';
-        i = close;
-        continue;
-      }
-    }
-    out += text[i];
-  }
-  return out;
-}
-
-}  // namespace
 
 json resultJson(const Scene& scene, const Model& model, const ToolOptions& options, const Run& run,
                 const Timing& timing) {

@@ -18,6 +18,11 @@ namespace pcl_icf_tool {
 
 using json = nlohmann::ordered_json;
 
+/** One judged hypothesis as JSON: pose in the scene's units, confidence, the verification's
+ * terms, alternatives, why refused. */
+json clusterJson(const pcl::icf::localization::ClusterLocalization& c, int index,
+                 const Scene& scene);
+
 /** The run as JSON (doc/USER_GUIDE.md): inputs, status, every cluster, the best, timings. */
 json resultJson(const Scene& scene, const Model& model, const ToolOptions& options, const Run& run,
                 const Timing& timing);

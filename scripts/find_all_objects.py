@@ -8,8 +8,8 @@ prepared in both: their preparation is not counted).
   scripts/find_all_objects.py [--tool PATH] [--data DIR] [--no-singles] [--frames N]
 
 The frames: ../shared/data/ycbv-video0000 (nine frames at 0.55 m, two meshed objects),
-ycbv-video0001 (five at 1 m, four), the YCB-V frame (two). The distractors of a frame are meshes
-of objects that are not in it (the other video's, the potted meat can's where it is absent).
+ycbv-video0001 (five at 1 m, four), the YCB-V frame (two). Four distractors a frame, meshes of
+objects that are not in it: the other video's, the potted meat can and the Stanford bunny.
 Exit 0 when the one call finds at least as many as the single calls and gives no false pose,
 1 otherwise, 2 on bad input."""
 import argparse
@@ -74,8 +74,9 @@ def main():
     meshes0 = sorted((v0 / "models").glob("*.ply"))
     meshes1 = sorted((v1 / "models").glob("*.ply"))
     potted = data / "ycbv/010_potted_meat_can_textured.obj"
+    bunny = data / "meshes/bunny.ply"
     suites = [("ycbv-video0000", video_frames(v0), meshes1),
-              ("ycbv-video0001", video_frames(v1), meshes0 + [potted, meshes1[0]]),
+              ("ycbv-video0001", video_frames(v1), meshes0 + [potted, bunny]),
               ("ycbv frame", [ycbv_frame(data / "ycbv")], meshes0 + meshes1[1:2] + meshes1[3:])]
     scorers = {}
     totals = {"one": [0, 0, 0], "single": [0, 0, 0]}  # right, wrong, false

@@ -83,11 +83,21 @@ class Tool : public pcl_icf_test::TempDirTest {
  protected:
   Tool() : TempDirTest("pcl_icf_tool_test") {}
 
-  /** Runs pcl_icf_tool with \a args (already shell-quoted where needed). */
-  Result run(const std::string& args) {
+  /** This process's prepared-model cache (XDG_CACHE_HOME for every run): the user's own is
+   * left alone, and the models are prepared once for all tests. */
+  static std::string cacheHome() {
+    return (fs::temp_directory_path() / ("pcl_icf_tool_test_cache_" + std::to_string(::getpid())))
+        .string();
+  }
+  static void TearDownTestSuite() { fs::remove_all(cacheHome()); }
+
+  /** Runs pcl_icf_tool with \a args (already shell-quoted where needed), its cache under
+   * \a cache_home. */
+  Result run(const std::string& args, const std::string& cache_home = cacheHome()) {
     const fs::path out = dir_ / ".stdout", err = dir_ / ".stderr";
-    const std::string cmd = quote(PCL_ICF_TOOL) + " " + args + " >" + quote(out.string()) + " 2>" +
-                            quote(err.string()) + " </dev/null";
+    const std::string cmd = "XDG_CACHE_HOME=" + quote(cache_home) + " " + quote(PCL_ICF_TOOL) +
+                            " " + args + " >" + quote(out.string()) + " 2>" + quote(err.string()) +
+                            " </dev/null";
     const int status = std::system(cmd.c_str());
     Result r;
     EXPECT_TRUE(WIFEXITED(status)) << "pcl_icf_tool did not exit normally: " << cmd;
@@ -527,6 +537,47 @@ TEST_F(Tool, SeveralModelsOneCallOneDocument) {
   const Result bad = run(quote(demo("tabletop_box5.pcd")) + " --models " + quote(path("bad.txt")));
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("line 1"), std::string::npos) << bad.err;
+}
+
+// The prepared-model cache: the first run prepares the model and writes one entry, the second
+// reads it and finds the same pose; a truncated entry is rebuilt with a warning; --no-cache
+// neither reads nor writes one.
+TEST_F(Tool, PreparedModelsAreCachedAndNoCacheSkipsIt) {
+  const std::string cache = path("cache_home");
+  const std::string args = quote(demo("tabletop_box5.pcd")) + " " + quote(demo("box5.ply")) +
+                           " --force --json " + quote(path("r.json"));
+  const auto fromCache = [&]() {
+    return json::parse(slurp(path("r.json")))["model_info"]["from_cache"].get<bool>();
+  };
+  const auto entries = [&]() {
+    std::vector<fs::path> found;
+    if (fs::is_directory(fs::path(cache) / "pcl_icf"))
+      for (const auto& f : fs::directory_iterator(fs::path(cache) / "pcl_icf"))
+        found.push_back(f.path());
+    return found;
+  };
+  ASSERT_EQ(run(args, cache).code, 0);
+  EXPECT_FALSE(fromCache());
+  const json first = json::parse(slurp(path("r.json")));
+  ASSERT_EQ(entries().size(), 1u);
+  EXPECT_EQ(entries().front().extension(), ".icfmodel");
+  ASSERT_EQ(run(args, cache).code, 0);
+  EXPECT_TRUE(fromCache());
+  EXPECT_EQ(json::parse(slurp(path("r.json")))["best"]["pose"], first["best"]["pose"]);
+
+  fs::resize_file(entries().front(), fs::file_size(entries().front()) / 2);
+  const Result rebuilt = run(args, cache);
+  ASSERT_EQ(rebuilt.code, 0) << rebuilt.err;
+  EXPECT_NE(rebuilt.err.find("rebuilt"), std::string::npos) << rebuilt.err;
+  EXPECT_FALSE(fromCache());
+  ASSERT_EQ(run(args, cache).code, 0);
+  EXPECT_TRUE(fromCache());
+
+  const std::string untouched = path("untouched_home");
+  ASSERT_EQ(run(args + " --no-cache", untouched).code, 0);
+  EXPECT_FALSE(fromCache());
+  EXPECT_FALSE(fs::exists(untouched)) << "--no-cache wrote a cache";
+  fs::remove_all(cache);
 }
 
 TEST_F(Tool, HelpPrintsUsage) {

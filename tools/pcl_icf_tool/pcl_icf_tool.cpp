@@ -59,7 +59,7 @@ int runSingle(const ToolOptions& options) {
   const bool quiet = options.quiet;
   const Scene scene = loadScene(options.scene, options.units, quiet);
   timing.load_scene = scene.load_ms;
-  const Model model = loadModel(options.model, options.model_units, quiet);
+  const Model model = loadModel(options.model, options.model_units, quiet, cacheFolder(options));
   timing.load_model = model.load_ms;
   timing.build_model = model.build_ms;
 

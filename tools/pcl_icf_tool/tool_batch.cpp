@@ -217,7 +217,7 @@ int runBatch(const ToolOptions& options) {
   const bool quiet = options.quiet;
   const std::vector<std::string> scenes = listScenes(options.batch, "--batch");
   const BatchOutputs out = prepareOutputs(options, scenes);
-  const Model model = loadModel(options.model, options.model_units, quiet);
+  const Model model = loadModel(options.model, options.model_units, quiet, cacheFolder(options));
 
   json summary_scenes = json::array();
   int counts[3] = {0, 0, 0};  // found, not found, unreadable: by exit code

@@ -68,6 +68,7 @@ json frameJson(const Scene& scene, const std::vector<Model>& models,
                        {"name", names[k]},
                        {"model_units", pcl_icf_tool::unitsName(models[k].units)},
                        {"max_instances", options.model_counts[k]},
+                       {"from_cache", models[k].from_cache},
                        {"status", localization::toString(loc.status)},
                        {"message", loc.message},
                        {"instances", instances},
@@ -131,7 +132,7 @@ int runMany(const ToolOptions& options) {
   const Scene scene = loadScene(options.scene, options.units, quiet);
   std::vector<Model> models;
   for (const auto& path : options.models)
-    models.push_back(loadModel(path, options.model_units, quiet));
+    models.push_back(loadModel(path, options.model_units, quiet, cacheFolder(options)));
   const std::vector<std::string> names = modelNames(options.models);
   std::vector<localization::ObjectQuery> queries;
   for (std::size_t k = 0; k < models.size(); ++k)

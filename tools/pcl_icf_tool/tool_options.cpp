@@ -300,6 +300,9 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
     else if (a == "--view") {
       args.noValue(a);
       o.view = true;
+    } else if (a == "--no-cache") {
+      args.noValue(a);
+      o.no_cache = true;
     } else if (a == "--force" || a == "-f") {
       args.noValue(a);
       o.force = true;
@@ -371,6 +374,10 @@ std::string usageText(const std::string& program) {
     << "                               paths relative to the file's folder, '#' comments)\n"
     << "  where options are:\n"
     << "  Input:\n"
+    << "    --no-cache               = prepare every model afresh: read and write no\n"
+    << "                               prepared-model cache (default: "
+    << "$XDG_CACHE_HOME/pcl_icf,\n"
+    << "                               else ~/.cache/pcl_icf)\n"
     << "    --units m|mm|auto        = the scene's units (default: auto, millimetres when the\n"
     << "                               scene spans more than 20 units)\n"
     << "    --model-units m|mm|auto  = the mesh's units (default: auto, millimetres when the\n"

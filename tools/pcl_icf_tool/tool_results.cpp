@@ -166,7 +166,8 @@ json resultJson(const Scene& scene, const Model& model, const ToolOptions& optio
   j["model_info"] = {
       {"vertices", static_cast<std::size_t>(model.mesh.cloud.width) * model.mesh.cloud.height},
       {"faces", model.icf->mesh().size()},
-      {"radius", model.icf->radius() / scene.metres_per_unit}};
+      {"radius", model.icf->radius() / scene.metres_per_unit},
+      {"from_cache", model.from_cache}};
   j["timing_ms"] = {
       {"load_scene", timing.load_scene},         {"load_model", timing.load_model},
       {"build_model", timing.build_model},       {"segmentation", run.loc.segmentation_ms},

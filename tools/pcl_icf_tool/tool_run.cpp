@@ -4,6 +4,8 @@
  */
 #include "tool_run.h"
 
+#include <pcl/icf/model_file.h>
+
 #include "tool_mesh.h"
 
 #include <pcl/icf/face_mesh.h>
@@ -44,7 +46,12 @@ std::string fixed(double v, int digits) {
   return buf;
 }
 
-Model loadModel(const std::string& path, Units requested, bool quiet) {
+std::string cacheFolder(const ToolOptions& options) {
+  return options.no_cache ? std::string() : pcl::icf::defaultModelCacheFolder();
+}
+
+Model loadModel(const std::string& path, Units requested, bool quiet,
+                const std::string& cache_folder) {
   Model m;
   m.path = path;
   const auto start = Clock::now();
@@ -69,7 +76,11 @@ Model loadModel(const std::string& path, Units requested, bool quiet) {
   pcl::icf::IcfModelParams params;
   params.mesh.scale = static_cast<float>(m.metres_per_unit);
   try {
-    m.icf = pcl::icf::IcfModel::build(m.mesh, params);
+    const pcl::icf::CachedModel cached = pcl::icf::buildModelCached(m.mesh, params, cache_folder);
+    if (!cached.warning.empty() && !quiet)
+      warn(path + ": prepared-model cache: " + cached.warning);
+    m.icf = cached.model;
+    m.from_cache = cached.from_cache;
   } catch (const pcl::icf::InvalidMeshError& e) {
     throw BadInput(path + ": not a usable model: " + e.what());
   } catch (const std::invalid_argument& e) {

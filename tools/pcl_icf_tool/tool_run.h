@@ -53,11 +53,18 @@ struct Model {
   double metres_per_unit = 1.0;
   pcl::icf::IcfModel::ConstPtr icf;  ///< in metres
   double load_ms = 0.0, build_ms = 0.0;
+  bool from_cache = false;  ///< read from the prepared-model cache, not built
 };
 
-/** Reads and prepares the model; --model-units auto decides mm or m from its extent.
- * \throws BadInput for an unreadable file or an unusable mesh. */
-Model loadModel(const std::string& path, Units requested, bool quiet);
+/** The prepared-model cache folder for \a options: "" with --no-cache, else
+ * pcl::icf::defaultModelCacheFolder(). */
+std::string cacheFolder(const ToolOptions& options);
+
+/** Reads and prepares the model, through the prepared-model cache \a cache_folder ("" none);
+ * --model-units auto decides mm or m from its extent. \throws BadInput for an unreadable file
+ * or an unusable mesh. */
+Model loadModel(const std::string& path, Units requested, bool quiet,
+                const std::string& cache_folder);
 
 /** The scene as read, and in metres. */
 struct Scene {

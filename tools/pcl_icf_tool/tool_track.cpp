@@ -281,7 +281,7 @@ int runTrack(const ToolOptions& options) {
   }
   std::vector<Model> models;
   for (const auto& path : options.models)
-    models.push_back(loadModel(path, options.model_units, options.quiet));
+    models.push_back(loadModel(path, options.model_units, options.quiet, cacheFolder(options)));
   TrackStream stream(options, std::move(models));
   if (!options.follow) {
     if (!options.render_dir.empty())

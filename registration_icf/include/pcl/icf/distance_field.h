@@ -48,6 +48,8 @@ struct DistanceFieldParams {
  *
  * Immutable after construction; lookups are const and thread-safe. Does not keep a reference
  * to the mesh or the index. */
+struct ModelFileAccess;  // model_file.cpp: writes and reads the prepared field
+
 class ClosestPointField {
  public:
   using Ptr = std::shared_ptr<ClosestPointField>;
@@ -95,6 +97,8 @@ class ClosestPointField {
   void flagMedialCells();
   Eigen::Vector3f interpolateClosest(const Cell& c) const;
   float interpolateDistance(const Cell& c) const;
+  friend struct ModelFileAccess;
+  ClosestPointField() = default;
 
   Eigen::Vector3f origin_ = Eigen::Vector3f::Zero();
   Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();  // nodes per axis

@@ -56,7 +56,12 @@ class IcfModel {
   IcfModel& operator=(const IcfModel&) = delete;
 
  private:
+  friend struct ModelFileAccess;
   IcfModel() = default;
+  /** build, with the field and the table given (read from a prepared file) where not null. */
+  static ConstPtr assemble(const pcl::PolygonMesh& mesh, const IcfModelParams& params,
+                           std::unique_ptr<ClosestPointField> field,
+                           std::unique_ptr<PointPairModel> pairs);
   std::unique_ptr<FaceMesh> mesh_;
   std::unique_ptr<ClosestFaceQuery> exact_index_;  // the BVH; the field is built from it
   std::unique_ptr<ClosestPointField> field_;

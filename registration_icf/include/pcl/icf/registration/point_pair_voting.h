@@ -80,6 +80,8 @@ float pointPairAngle(const Eigen::Isometry3f& frame, const Eigen::Vector3f& p2);
 /** \brief A model's oriented samples and the table of all their pairs, indexed by the
  * quantised feature: what the scene's pairs vote with. Built once per model; immutable and
  * safe to share between threads. */
+struct ModelFileAccess;  // model_file.cpp: writes and reads the prepared table
+
 class PointPairModel {
  public:
   /** One model pair in the table: its reference sample and its angle (pointPairAngle). */
@@ -138,6 +140,7 @@ class PointPairModel {
   std::vector<Entry> entries_;
   std::vector<float> weights_;  ///< per bin
   void capBins(std::size_t cap);
+  friend struct ModelFileAccess;
 };
 
 /** \brief How the scene votes. Calibration constants (the localizer's tuning). */

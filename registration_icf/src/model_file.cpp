@@ -1,0 +1,399 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+// Prepared-model files (model_file.h). The layout is this project's own: PCL and VTK have no
+// format for a closest-point field or a point pair table, and the file is a cache of our own
+// arrays, read back on the same kind of machine (little-endian, the build's float layout). The
+// checksum is zlib's CRC-32; the key is 64-bit FNV-1a (a few lines, stable across compilers and
+// versions, which std::hash and boost::hash are not).
+#include <pcl/icf/model_file.h>
+
+#include <zlib.h>
+
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <sstream>
+#include <type_traits>
+
+namespace pcl {
+namespace icf {
+
+namespace {
+
+constexpr char kMagic[8] = {'P', 'C', 'L', 'I', 'C', 'F', 'M', '\0'};
+
+/** 64-bit FNV-1a over everything fed to it. */
+class KeyHash {
+ public:
+  void bytes(const void* data, std::size_t n) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < n; ++i) {
+      h_ ^= p[i];
+      h_ *= 0x100000001b3ULL;
+    }
+  }
+  template <typename T>
+  void value(const T& v) {
+    static_assert(std::is_arithmetic_v<T>);
+    bytes(&v, sizeof(T));
+  }
+  template <typename... T>
+  void values(const T&... v) {
+    (value(v), ...);
+  }
+  void text(const std::string& s) {
+    value(s.size());
+    bytes(s.data(), s.size());
+  }
+  std::string hex() const {
+    char out[17];
+    std::snprintf(out, sizeof(out), "%016llx", static_cast<unsigned long long>(h_));
+    return out;
+  }
+
+ private:
+  std::uint64_t h_ = 0xcbf29ce484222325ULL;
+};
+
+/** Appends trivially copyable values and arrays to a byte buffer. */
+class Writer {
+ public:
+  template <typename T>
+  void value(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const auto* p = reinterpret_cast<const char*>(&v);
+    buf_.insert(buf_.end(), p, p + sizeof(T));
+  }
+  template <typename... T>
+  void values(const T&... v) {
+    (value(v), ...);
+  }
+  template <typename T>
+  void array(const std::vector<T>& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    value(static_cast<std::uint64_t>(v.size()));
+    const auto* p = reinterpret_cast<const char*>(v.data());
+    buf_.insert(buf_.end(), p, p + v.size() * sizeof(T));
+  }
+  std::string& bytes() { return buf_; }
+
+ private:
+  std::string buf_;
+};
+
+/** Reads what Writer wrote; every read checked against the end (a truncated file). */
+class Reader {
+ public:
+  Reader(const char* begin, const char* end, std::string path)
+      : p_(begin), end_(end), path_(std::move(path)) {}
+  template <typename T>
+  T value() {
+    need(sizeof(T));
+    T v;
+    std::memcpy(&v, p_, sizeof(T));
+    p_ += sizeof(T);
+    return v;
+  }
+  template <typename T>
+  std::vector<T> array() {
+    const auto n = value<std::uint64_t>();
+    if (n > static_cast<std::uint64_t>(end_ - p_) / sizeof(T))
+      fail("an array runs past the end (truncated)");
+    std::vector<T> v(static_cast<std::size_t>(n));
+    std::memcpy(v.data(), p_, v.size() * sizeof(T));
+    p_ += v.size() * sizeof(T);
+    return v;
+  }
+  std::string text(std::size_t n) {
+    need(n);
+    std::string s(p_, n);
+    p_ += n;
+    return s;
+  }
+  void need(std::size_t n) const {
+    if (static_cast<std::size_t>(end_ - p_) < n)
+      fail("ends early (truncated)");
+  }
+  bool done() const { return p_ == end_; }
+  [[noreturn]] void fail(const std::string& why) const { throw ModelFileError(path_ + ": " + why); }
+
+ private:
+  const char* p_;
+  const char* end_;
+  std::string path_;
+};
+
+/** Eigen's fixed vectors are not trivially copyable: written as their scalars. */
+template <typename Scalar>
+void put3(Writer& w, const Eigen::Matrix<Scalar, 3, 1>& v) {
+  for (int a = 0; a < 3; ++a)
+    w.value(v[a]);
+}
+template <typename Scalar>
+Eigen::Matrix<Scalar, 3, 1> get3(Reader& r) {
+  Eigen::Matrix<Scalar, 3, 1> v;
+  for (int a = 0; a < 3; ++a)
+    v[a] = r.value<Scalar>();
+  return v;
+}
+void putPoints(Writer& w, const std::vector<Eigen::Vector3f>& points) {
+  std::vector<float> flat;
+  flat.reserve(3 * points.size());
+  for (const auto& p : points)
+    flat.insert(flat.end(), {p.x(), p.y(), p.z()});
+  w.array(flat);
+}
+std::vector<Eigen::Vector3f> getPoints(Reader& r) {
+  const std::vector<float> flat = r.array<float>();
+  if (flat.size() % 3 != 0)
+    r.fail("a list of points is not a multiple of three numbers (corrupt)");
+  std::vector<Eigen::Vector3f> points(flat.size() / 3);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    points[i] = Eigen::Vector3f(flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]);
+  return points;
+}
+
+std::uint32_t crc(const char* data, std::size_t n) {
+  uLong c = crc32(0L, Z_NULL, 0);
+  // zlib's length is a uInt: feed large buffers in pieces.
+  while (n > 0) {
+    const auto piece = static_cast<uInt>(std::min<std::size_t>(n, 1u << 30));
+    c = crc32(c, reinterpret_cast<const Bytef*>(data), piece);
+    data += piece;
+    n -= piece;
+  }
+  return static_cast<std::uint32_t>(c);
+}
+
+}  // namespace
+
+/** What the files hold of the classes' private state (their friend). */
+struct ModelFileAccess {
+  static void write(Writer& w, const ClosestPointField& f) {
+    put3(w, f.origin_);
+    put3(w, f.dims_);
+    w.value(f.cell_);
+    w.array(f.nodes_);
+    w.array(f.distances_);
+    w.array(f.medial_);
+  }
+  static std::unique_ptr<ClosestPointField> readField(Reader& r) {
+    std::unique_ptr<ClosestPointField> f(new ClosestPointField());
+    f->origin_ = get3<float>(r);
+    f->dims_ = get3<int>(r);
+    f->cell_ = r.value<float>();
+    f->nodes_ = r.array<float>();
+    f->distances_ = r.array<float>();
+    f->medial_ = r.array<std::uint8_t>();
+    const double nodes = static_cast<double>(f->dims_.x()) * f->dims_.y() * f->dims_.z();
+    if (!(f->dims_.minCoeff() >= 2 && f->cell_ > 0.f && std::isfinite(f->cell_) &&
+          f->nodes_.size() == 3 * static_cast<std::size_t>(nodes) &&
+          f->distances_.size() == static_cast<std::size_t>(nodes) &&
+          f->medial_.size() == static_cast<std::size_t>(nodes)))
+      r.fail("the closest-point field's sizes do not agree (corrupt)");
+    f->inv_cell_ = 1.f / f->cell_;
+    return f;
+  }
+  static void write(Writer& w, const PointPairModel& m) {
+    putPoints(w, m.points_);
+    putPoints(w, m.normals_);
+    w.values(m.diameter_, m.step_, m.coplanar_, m.angle_bins_, m.feature_bins_, m.distance_bins_);
+    w.array(m.offsets_);
+    w.array(m.entries_);
+    w.array(m.weights_);
+  }
+  static std::unique_ptr<PointPairModel> readPairs(Reader& r) {
+    auto m = std::make_unique<PointPairModel>();
+    m->points_ = getPoints(r);
+    m->normals_ = getPoints(r);
+    m->diameter_ = r.value<float>();
+    m->step_ = r.value<float>();
+    m->coplanar_ = r.value<float>();
+    m->angle_bins_ = r.value<int>();
+    m->feature_bins_ = r.value<int>();
+    m->distance_bins_ = r.value<int>();
+    m->offsets_ = r.array<std::uint32_t>();
+    m->entries_ = r.array<PointPairModel::Entry>();
+    m->weights_ = r.array<float>();
+    const bool empty = m->points_.empty();
+    const double bins = static_cast<double>(m->distance_bins_) * m->feature_bins_ *
+                        m->feature_bins_ * m->feature_bins_;
+    const bool sized = m->normals_.size() == m->points_.size() &&
+                       (empty || (m->offsets_.size() == static_cast<std::size_t>(bins) + 1 &&
+                                  m->weights_.size() == static_cast<std::size_t>(bins) &&
+                                  m->offsets_.back() == m->entries_.size()));
+    if (!sized)
+      r.fail("the point pair table's sizes do not agree (corrupt)");
+    for (const auto& e : m->entries_)
+      if (e.reference >= m->points_.size())
+        r.fail("the point pair table names a sample it does not hold (corrupt)");
+    return m;
+  }
+  static IcfModel::ConstPtr assemble(const pcl::PolygonMesh& mesh, const IcfModelParams& params,
+                                     std::unique_ptr<ClosestPointField> field,
+                                     std::unique_ptr<PointPairModel> pairs) {
+    return IcfModel::assemble(mesh, params, std::move(field), std::move(pairs));
+  }
+  static const ClosestPointField& field(const IcfModel& m) { return *m.field_; }
+  static const PointPairModel& pairs(const IcfModel& m) { return m.point_pairs_; }
+};
+
+std::string preparationKey(const pcl::PolygonMesh& mesh, const IcfModelParams& params) {
+  // A field added to one of these structs must be added to the key: their sizes are checked.
+  static_assert(sizeof(FaceMeshOptions) == 12, "FaceMeshOptions changed: update the key");
+  static_assert(sizeof(DistanceFieldParams) == 32, "DistanceFieldParams changed: update the key");
+  static_assert(sizeof(PointPairModelParams) == 40, "PointPairModelParams changed: update the key");
+  KeyHash h;
+  h.text("pcl_icf prepared model");
+  h.value(kModelFileVersion);
+  const pcl::PCLPointCloud2& c = mesh.cloud;
+  h.value(c.width);
+  h.value(c.height);
+  h.value(c.point_step);
+  h.value(c.is_bigendian);
+  for (const auto& f : c.fields) {
+    h.text(f.name);
+    h.value(f.offset);
+    h.value(f.datatype);
+    h.value(f.count);
+  }
+  h.value(c.data.size());
+  h.bytes(c.data.data(), c.data.size());
+  h.value(mesh.polygons.size());
+  for (const auto& p : mesh.polygons) {
+    h.value(p.vertices.size());
+    h.bytes(p.vertices.data(), p.vertices.size() * sizeof(p.vertices[0]));
+  }
+  const auto& m = params.mesh;
+  const auto& f = params.field;
+  const auto& pp = params.point_pairs;
+  h.values(m.planarity_tolerance, m.area_tolerance, m.scale);
+  h.values(f.margin, f.cell_size, f.resolution, f.max_nodes);
+  h.values(params.surface_samples, params.seed);
+  h.values(pp.sampling_step, pp.angle_bins, pp.normal_split_deg, pp.coplanar_deg, pp.max_bin_pairs,
+           pp.dense_samples, pp.seed);
+  return h.hex();
+}
+
+void writeModelFile(const IcfModel& model, const std::string& key, const std::string& path) {
+  Writer w;
+  w.bytes().append(kMagic, sizeof(kMagic));
+  w.value(static_cast<std::uint32_t>(kModelFileVersion));
+  w.value(static_cast<std::uint64_t>(key.size()));
+  w.bytes().append(key);
+  ModelFileAccess::write(w, ModelFileAccess::field(model));
+  ModelFileAccess::write(w, ModelFileAccess::pairs(model));
+  w.value(crc(w.bytes().data(), w.bytes().size()));
+
+  // A temporary name of this process and a random suffix beside the target, then one rename.
+  namespace fs = std::filesystem;
+  std::random_device entropy;
+  const fs::path target(path);
+  const fs::path tmp =
+      target.parent_path() / ("." + target.filename().string() + "." + std::to_string(::getpid()) +
+                              "." + std::to_string(entropy()) + ".tmp");
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out.write(w.bytes().data(), static_cast<std::streamsize>(w.bytes().size()));
+    out.close();
+    if (!out) {
+      std::error_code ignored;
+      fs::remove(tmp, ignored);
+      throw ModelFileError(path + ": cannot be written");
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, target, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw ModelFileError(path + ": cannot be written (" + ec.message() + ")");
+  }
+}
+
+IcfModel::ConstPtr readModelFile(const std::string& path, const pcl::PolygonMesh& mesh,
+                                 const IcfModelParams& params) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in)
+    throw ModelFileError(path + ": cannot be read");
+  std::string data(static_cast<std::size_t>(std::max<std::streamoff>(0, in.tellg())), '\0');
+  in.seekg(0);
+  if (!in.read(data.data(), static_cast<std::streamsize>(data.size())))
+    throw ModelFileError(path + ": cannot be read");
+  if (data.size() < sizeof(kMagic) || std::memcmp(data.data(), kMagic, sizeof(kMagic)) != 0)
+    throw ModelFileError(path + ": not a pcl_icf prepared model");
+  if (data.size() < sizeof(kMagic) + sizeof(std::uint32_t) * 2)
+    throw ModelFileError(path + ": ends early (truncated)");
+  Reader head(data.data() + sizeof(kMagic), data.data() + data.size(), path);
+  const auto version = head.value<std::uint32_t>();
+  if (version != kModelFileVersion)
+    throw ModelFileError(path + ": format version " + std::to_string(version) +
+                         ", this build reads " + std::to_string(kModelFileVersion));
+  const std::size_t body = data.size() - sizeof(std::uint32_t);
+  std::uint32_t stored = 0;
+  std::memcpy(&stored, data.data() + body, sizeof(stored));
+  if (crc(data.data(), body) != stored)
+    throw ModelFileError(path + ": checksum mismatch (corrupt or truncated)");
+  Reader r(data.data() + sizeof(kMagic) + sizeof(std::uint32_t), data.data() + body, path);
+  const auto key_size = r.value<std::uint64_t>();
+  if (key_size > 64)
+    r.fail("its key is not a key (corrupt)");
+  const std::string key = r.text(static_cast<std::size_t>(key_size));
+  const std::string want = preparationKey(mesh, params);
+  if (key != want)
+    r.fail("prepared from another mesh or other parameters (key " + key + ", wanted " + want + ")");
+  auto field = ModelFileAccess::readField(r);
+  auto pairs = ModelFileAccess::readPairs(r);
+  if (!r.done())
+    r.fail("holds more than a model (corrupt)");
+  return ModelFileAccess::assemble(mesh, params, std::move(field), std::move(pairs));
+}
+
+std::string defaultModelCacheFolder() {
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg)
+    return (std::filesystem::path(xdg) / "pcl_icf").string();
+  if (const char* home = std::getenv("HOME"); home && *home)
+    return (std::filesystem::path(home) / ".cache" / "pcl_icf").string();
+  return "";
+}
+
+CachedModel buildModelCached(const pcl::PolygonMesh& mesh, const IcfModelParams& params,
+                             const std::string& folder) {
+  CachedModel out;
+  if (folder.empty()) {
+    out.model = IcfModel::build(mesh, params);
+    return out;
+  }
+  namespace fs = std::filesystem;
+  out.path = (fs::path(folder) / (preparationKey(mesh, params) + ".icfmodel")).string();
+  std::error_code ec;
+  if (fs::exists(out.path, ec)) {
+    try {
+      out.model = readModelFile(out.path, mesh, params);
+      out.from_cache = true;
+      return out;
+    } catch (const ModelFileError& e) {
+      out.warning = std::string(e.what()) + "; rebuilt";
+    }
+  }
+  out.model = IcfModel::build(mesh, params);
+  fs::create_directories(folder, ec);
+  try {
+    writeModelFile(*out.model, preparationKey(mesh, params), out.path);
+  } catch (const ModelFileError& e) {
+    out.warning +=
+        (out.warning.empty() ? "" : "; ") + std::string(e.what()) + " (the model is not cached)";
+  }
+  return out;
+}
+
+}  // namespace icf
+}  // namespace pcl

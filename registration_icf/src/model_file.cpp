@@ -232,6 +232,9 @@ struct ModelFileAccess {
                                   m->offsets_.back() == m->entries_.size()));
     if (!sized)
       r.fail("the point pair table's sizes do not agree (corrupt)");
+    for (std::size_t b = 1; b < m->offsets_.size(); ++b)
+      if (m->offsets_[b] < m->offsets_[b - 1])
+        r.fail("the point pair table's bins overlap (corrupt)");
     for (const auto& e : m->entries_)
       if (e.reference >= m->points_.size())
         r.fail("the point pair table names a sample it does not hold (corrupt)");

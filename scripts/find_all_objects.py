@@ -52,7 +52,7 @@ def run_tool(tool, scene, meshes, out):
 
 
 def poses_of(document):
-    """[(instance poses, localization ms)] per model of a one-call or single-call document."""
+    """The instance poses of each model of a one-call or single-call document."""
     if "objects" in document:
         return [[np.array(i["pose"]) for i in o["instances"]] for o in document["objects"]]
     return [[np.array(i["pose"]) for i in document["instances"]]]

@@ -322,8 +322,11 @@ void writeModelFile(const IcfModel& model, const std::string& key, const std::st
   }
 }
 
-IcfModel::ConstPtr readModelFile(const std::string& path, const pcl::PolygonMesh& mesh,
-                                 const IcfModelParams& params) {
+namespace {
+
+/** readModelFile for a mesh whose preparationKey is \a want. */
+IcfModel::ConstPtr readModelFileWithKey(const std::string& path, const pcl::PolygonMesh& mesh,
+                                        const IcfModelParams& params, const std::string& want) {
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in)
     throw ModelFileError(path + ": cannot be read");
@@ -350,7 +353,6 @@ IcfModel::ConstPtr readModelFile(const std::string& path, const pcl::PolygonMesh
   if (key_size > 64)
     r.fail("its key is not a key (corrupt)");
   const std::string key = r.text(static_cast<std::size_t>(key_size));
-  const std::string want = preparationKey(mesh, params);
   if (key != want)
     r.fail("prepared from another mesh or other parameters (key " + key + ", wanted " + want + ")");
   auto field = ModelFileAccess::readField(r);
@@ -358,6 +360,13 @@ IcfModel::ConstPtr readModelFile(const std::string& path, const pcl::PolygonMesh
   if (!r.done())
     r.fail("holds more than a model (corrupt)");
   return ModelFileAccess::assemble(mesh, params, std::move(field), std::move(pairs));
+}
+
+}  // namespace
+
+IcfModel::ConstPtr readModelFile(const std::string& path, const pcl::PolygonMesh& mesh,
+                                 const IcfModelParams& params) {
+  return readModelFileWithKey(path, mesh, params, preparationKey(mesh, params));
 }
 
 std::string defaultModelCacheFolder() {
@@ -376,11 +385,12 @@ CachedModel buildModelCached(const pcl::PolygonMesh& mesh, const IcfModelParams&
     return out;
   }
   namespace fs = std::filesystem;
-  out.path = (fs::path(folder) / (preparationKey(mesh, params) + ".icfmodel")).string();
+  const std::string key = preparationKey(mesh, params);
+  out.path = (fs::path(folder) / (key + ".icfmodel")).string();
   std::error_code ec;
   if (fs::exists(out.path, ec)) {
     try {
-      out.model = readModelFile(out.path, mesh, params);
+      out.model = readModelFileWithKey(out.path, mesh, params, key);
       out.from_cache = true;
       return out;
     } catch (const ModelFileError& e) {
@@ -390,7 +400,7 @@ CachedModel buildModelCached(const pcl::PolygonMesh& mesh, const IcfModelParams&
   out.model = IcfModel::build(mesh, params);
   fs::create_directories(folder, ec);
   try {
-    writeModelFile(*out.model, preparationKey(mesh, params), out.path);
+    writeModelFile(*out.model, key, out.path);
   } catch (const ModelFileError& e) {
     out.warning +=
         (out.warning.empty() ? "" : "; ") + std::string(e.what()) + " (the model is not cached)";

@@ -33,16 +33,6 @@ std::vector<std::string> modelNames(const std::vector<std::string>& paths) {
   return names;
 }
 
-localization::LocalizerParams sceneParams(const Scene& scene, const ToolOptions& options) {
-  localization::LocalizerParams params = options.params;
-  if (options.camera) {
-    Eigen::Isometry3d camera = *options.camera;
-    camera.translation() *= scene.metres_per_unit;
-    params.camera_pose = camera.cast<float>();
-  }
-  return params;
-}
-
 json frameJson(const Scene& scene, const std::vector<Model>& models,
                const std::vector<std::string>& names, const ToolOptions& options,
                const localization::ObjectsLocalization& all, double load_scene_ms,
@@ -56,9 +46,10 @@ json frameJson(const Scene& scene, const std::vector<Model>& models,
   j["message"] = all.message;
   j["exit_code"] = all.status == localization::LocalizationStatus::Found ? 0 : 1;
   json objects = json::array();
+  std::vector<json> clusters_of(models.size());
   for (std::size_t k = 0; k < models.size(); ++k) {
     const localization::Localization& loc = all.objects[k];
-    json clusters = json::array();
+    json& clusters = clusters_of[k] = json::array();
     for (std::size_t h = 0; h < loc.clusters.size(); ++h)
       clusters.push_back(clusterJson(loc.clusters[h], static_cast<int>(h), scene));
     json instances = json::array();
@@ -83,13 +74,13 @@ json frameJson(const Scene& scene, const std::vector<Model>& models,
   j["objects"] = objects;
   json instances = json::array();
   for (const auto& i : all.instances) {
-    const auto& c = all.objects[static_cast<std::size_t>(i.object)]
-                        .clusters[static_cast<std::size_t>(i.hypothesis)];
+    const json& c =
+        clusters_of[static_cast<std::size_t>(i.object)][static_cast<std::size_t>(i.hypothesis)];
     instances.push_back({{"object", i.object},
                          {"name", names[static_cast<std::size_t>(i.object)]},
                          {"cluster", i.hypothesis},
-                         {"confidence", c.verification.confidence},
-                         {"pose", clusterJson(c, i.hypothesis, scene)["pose"]}});
+                         {"confidence", c["confidence"]},
+                         {"pose", c["pose"]}});
   }
   j["instances"] = instances;
   j["timing_ms"] = {{"load_scene", load_scene_ms},
@@ -140,7 +131,7 @@ int runMany(const ToolOptions& options) {
 
   const auto began = Clock::now();
   const localization::ObjectsLocalization all =
-      localization::localizeObjects(*scene.metres, queries, sceneParams(scene, options));
+      localization::localizeObjects(*scene.metres, queries, localizerParams(scene, options, quiet));
   const double ms = msSince(began);
   if (all.status == localization::LocalizationStatus::BadScene)
     throw BadInput(options.scene + ": " + all.message +

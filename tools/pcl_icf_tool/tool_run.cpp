@@ -125,7 +125,8 @@ Scene loadScene(const std::string& path, Units requested, bool quiet) {
   return s;
 }
 
-Run localize(const Scene& scene, const Model& model, const ToolOptions& options, bool quiet) {
+localization::LocalizerParams localizerParams(const Scene& scene, const ToolOptions& options,
+                                              bool quiet) {
   localization::LocalizerParams params = options.params;
   if (params.colour.expected && !scene.info.has_colour) {
     if (!quiet)
@@ -137,6 +138,11 @@ Run localize(const Scene& scene, const Model& model, const ToolOptions& options,
     camera.translation() *= scene.metres_per_unit;
     params.camera_pose = camera.cast<float>();
   }
+  return params;
+}
+
+Run localize(const Scene& scene, const Model& model, const ToolOptions& options, bool quiet) {
+  const localization::LocalizerParams params = localizerParams(scene, options, quiet);
   Run run;
   const auto start = Clock::now();
   run.loc = localization::localizeObject(*scene.metres, *model.icf, params);

@@ -86,8 +86,12 @@ struct Run {
   double ms = 0.0;
 };
 
-/** The localizer on the scene in metres (the colour cue dropped, with a warning, for a scene
- * without colour). */
+/** The localizer's parameters for \a scene: --camera in metres, the colour cue dropped, with a
+ * warning, for a scene without colour. */
+pcl::icf::localization::LocalizerParams localizerParams(const Scene& scene,
+                                                        const ToolOptions& options, bool quiet);
+
+/** The localizer on the scene in metres, with localizerParams. */
 Run localize(const Scene& scene, const Model& model, const ToolOptions& options, bool quiet);
 
 /** 0 found, 1 nothing accepted, 2 bad scene. */

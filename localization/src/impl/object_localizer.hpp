@@ -108,12 +108,8 @@ ObjectsLocalization localizeObjects(const pcl::PointCloud<PointT>& scene,
   const Eigen::Isometry3f camera_to_scene = cameraPoseOf(scene, params);
   validateRigidTransform(camera_to_scene.matrix().cast<double>(),
                          "[pcl::icf::localization::localizeObjects] the camera pose");
-  if (camera_to_scene.matrix() == Eigen::Matrix4f::Identity()) {
-    ObjectsLocalization all = detail::localizeObjectsInCameraFrame(scene, objects, params);
-    for (Localization& loc : all.objects)
-      loc.camera_pose = camera_to_scene;
-    return all;
-  }
+  if (camera_to_scene.matrix() == Eigen::Matrix4f::Identity())
+    return detail::localizeObjectsInCameraFrame(scene, objects, params);
   const auto start = std::chrono::steady_clock::now();
   pcl::PointCloud<PointT> in_camera;
   pcl::transformPointCloud(scene, in_camera, camera_to_scene.inverse(Eigen::Isometry).matrix());

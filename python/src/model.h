@@ -4,6 +4,7 @@
  */
 #pragma once
 
+#include <pcl/PolygonMesh.h>
 #include <pcl/icf/icf_model.h>
 
 #include <cstddef>
@@ -14,8 +15,10 @@ namespace pcl_icf_python {
 /** \brief pcl_icf.Model: a prepared model and the scale its file was read at. */
 struct Model {
   pcl::icf::IcfModel::ConstPtr icf;
-  std::string units;  ///< "m" or "mm": the mesh's units
+  pcl::PolygonMesh mesh;  ///< as given, in its own units (Model.save writes it with the model)
+  std::string units;      ///< "m" or "mm": the mesh's units
   std::size_t vertices = 0;
+  std::string source = "built";  ///< "built", "cache" or "prepared file"
 };
 
 }  // namespace pcl_icf_python

@@ -22,6 +22,7 @@
 #include <pcl/icf/io/scene_io.h>
 #include <pcl/icf/localization/object_localizer.h>
 #include <pcl/icf/localization/objects_localizer.h>
+#include <pcl/icf/model_file.h>
 
 #include <chrono>
 #include <cstddef>
@@ -60,19 +61,66 @@ double meshExtent(const pcl::PolygonMesh& mesh) {
  * millimetres. */
 constexpr double kModelMillimetreExtent = 2.0;
 
-std::shared_ptr<Model> buildModel(const pcl::PolygonMesh& mesh, const std::string& units) {
+/** The units a mesh is read in: "m" or "mm" as asked, or by the tool's rule for "auto". */
+std::string modelUnits(const pcl::PolygonMesh& mesh, const std::string& units) {
   if (units != "m" && units != "mm" && units != "auto")
     throw py::value_error("units: '" + units + "' is not m, mm or auto");
+  if (units == "auto")
+    return meshExtent(mesh) > kModelMillimetreExtent ? "mm" : "m";
+  return units;
+}
+
+pcl::icf::IcfModelParams modelParams(const std::string& units) {
+  pcl::icf::IcfModelParams params;
+  params.mesh.scale = units == "mm" ? 1e-3f : 1.f;
+  return params;
+}
+
+/** The model of \a mesh, through the prepared-model cache \a cache_folder ("" none); a cache
+ * that cannot be used is a Python warning, the model is right either way. */
+std::shared_ptr<Model> buildModel(pcl::PolygonMesh mesh, const std::string& units,
+                                  const std::string& cache_folder = "") {
   auto model = std::make_shared<Model>();
   model->vertices = static_cast<std::size_t>(mesh.cloud.width) * mesh.cloud.height;
-  py::gil_scoped_release release;
-  model->units = units;
-  if (units == "auto")
-    model->units = meshExtent(mesh) > kModelMillimetreExtent ? "mm" : "m";
-  pcl::icf::IcfModelParams params;
-  params.mesh.scale = model->units == "mm" ? 1e-3f : 1.f;
-  model->icf = pcl::icf::IcfModel::build(mesh, params);
+  model->units = modelUnits(mesh, units);
+  model->mesh = std::move(mesh);
+  pcl::icf::CachedModel cached;
+  {
+    py::gil_scoped_release release;
+    cached = pcl::icf::buildModelCached(model->mesh, modelParams(model->units), cache_folder);
+  }
+  if (!cached.warning.empty())
+    PyErr_WarnEx(PyExc_RuntimeWarning, ("prepared-model cache: " + cached.warning).c_str(), 1);
+  model->icf = cached.model;
+  model->source = cached.from_cache ? "cache" : "built";
   return model;
+}
+
+/** Model.from_file: a mesh file (through the cache when \a cache), or a prepared-model file
+ * (pcl_icf_tool --prepare, Model.save) read as it is. */
+std::shared_ptr<Model> modelFromFile(const std::string& path, const std::string& units,
+                                     bool cache) {
+  if (pcl::icf::isModelFile(path)) {
+    auto model = std::make_shared<Model>();
+    {
+      py::gil_scoped_release release;
+      model->mesh = pcl::icf::readModelFileMesh(path);
+    }
+    model->vertices = static_cast<std::size_t>(model->mesh.cloud.width) * model->mesh.cloud.height;
+    model->units = modelUnits(model->mesh, units);
+    py::gil_scoped_release release;
+    model->icf = pcl::icf::readModelFile(path, model->mesh, modelParams(model->units));
+    model->source = "prepared file";
+    return model;
+  }
+  pcl::PolygonMesh mesh;
+  {
+    py::gil_scoped_release release;
+    mesh = pcl::icf::io::loadPolygonMesh(path);
+  }
+  if (mesh.polygons.empty())
+    throw py::value_error(path + ": the mesh has no faces (a point cloud is not a model)");
+  return buildModel(std::move(mesh), units, cache ? pcl::icf::defaultModelCacheFolder() : "");
 }
 
 /** The registration's own measures at the final pose (pose_verification.h). */
@@ -341,6 +389,7 @@ PYBIND11_MODULE(pcl_icf, m) {
       "Lengths in metres; poses are 4x4 model -> scene matrices (numpy float64).";
 
   py::register_exception<pcl::icf::io::FileError>(m, "FileError", PyExc_OSError);
+  py::register_exception<pcl::icf::ModelFileError>(m, "ModelFileError", PyExc_ValueError);
 
   py::class_<Model, std::shared_ptr<Model>>(m, "Model",
                                             "A CAD mesh prepared for pose estimation (IcfModel).")
@@ -350,22 +399,25 @@ PYBIND11_MODULE(pcl_icf, m) {
           }),
           py::arg("vertices"), py::arg("faces"), py::arg("units") = "m",
           "Model(vertices (V, 3) float, faces (F, 3) int, units='m'|'mm'|'auto')")
-      .def_static(
-          "from_file",
-          [](const std::string& path, const std::string& units) {
-            pcl::PolygonMesh mesh;
-            {
-              py::gil_scoped_release release;
-              mesh = pcl::icf::io::loadPolygonMesh(path);
-            }
-            if (mesh.polygons.empty())
-              throw py::value_error(path +
-                                    ": the mesh has no faces (a point cloud is not a model)");
-            return pip::buildModel(mesh, units);
+      .def_static("from_file", &pip::modelFromFile, py::arg("path"), py::arg("units") = "auto",
+                  py::arg("cache") = true,
+                  "Load .ply/.obj/.stl/.vtk, or a prepared model (.icfmodel: pcl_icf_tool "
+                  "--prepare, Model.save); units 'auto' (the tool's rule: millimetres when the "
+                  "mesh spans more than 2 units), 'm' or 'mm'. cache: read and write the "
+                  "prepared-model cache ($XDG_CACHE_HOME/pcl_icf, else ~/.cache/pcl_icf), as "
+                  "the tool does; a cache that cannot be used is a RuntimeWarning.")
+      .def(
+          "save",
+          [](const Model& model, const std::string& path) {
+            py::gil_scoped_release release;
+            pcl::icf::writeModelFile(
+                *model.icf, model.mesh,
+                pcl::icf::preparationKey(model.mesh, pip::modelParams(model.units)), path);
           },
-          py::arg("path"), py::arg("units") = "auto",
-          "Load .ply/.obj/.stl/.vtk; units 'auto' (the tool's rule: millimetres when the mesh "
-          "spans more than 2 units), 'm' or 'mm'.")
+          py::arg("path"),
+          "save(path): write the prepared model with its mesh (a .icfmodel file that "
+          "Model.from_file and pcl_icf_tool read in milliseconds).")
+      .def_property_readonly("source", [](const Model& model) { return model.source; })
       .def_property_readonly("units", [](const Model& model) { return model.units; })
       .def_property_readonly("faces", [](const Model& model) { return model.icf->mesh().size(); })
       .def_property_readonly("vertices", [](const Model& model) { return model.vertices; })

@@ -166,3 +166,45 @@ def test_localize_many_bad_lists(box_model, demo_scene):
         pcl_icf.localize_many(demo_scene.xyz, [box_model], counts=[1, 2])
     with pytest.raises(ValueError, match="at least 1"):
         pcl_icf.localize_many(demo_scene.xyz, [box_model], counts=[0])
+
+
+def test_prepared_model_files_are_the_tools(tool, tmp_path, box_model, demo_scene):
+    """A model saved from Python loads in the tool, one the tool prepared loads in Python, and
+    each gives the mesh's own pose; a file in other units or a corrupt one is refused."""
+    saved = tmp_path / "py.icfmodel"
+    box_model.save(str(saved))
+    expected = tool_json(tool, tmp_path, DEMO / "tabletop_box5.pcd", DEMO / "box5.ply",
+                         "--no-cache")
+    assert_same(pcl_icf.localize(demo_scene.xyz, demo_scene.rgb, box_model), expected)
+    from_tool = tool_json(tool, tmp_path, DEMO / "tabletop_box5.pcd", saved, "--no-cache")
+    assert from_tool["model_info"]["from_prepared_file"]
+    assert_same(pcl_icf.localize(demo_scene.xyz, demo_scene.rgb, box_model), from_tool)
+
+    prepared = tmp_path / "tool.icfmodel"
+    subprocess.run([tool, "--prepare", str(DEMO / "box5.ply"), "-o", str(prepared), "-q"],
+                   check=True)
+    model = pcl_icf.Model.from_file(str(prepared))
+    assert model.source == "prepared file"
+    assert model.faces == box_model.faces
+    assert_same(pcl_icf.localize(demo_scene.xyz, demo_scene.rgb, model), expected)
+
+    with pytest.raises(pcl_icf.ModelFileError, match="another mesh or other parameters"):
+        pcl_icf.Model.from_file(str(prepared), units="mm")
+    corrupt = tmp_path / "corrupt.icfmodel"
+    data = bytearray(prepared.read_bytes())
+    data[len(data) // 2] ^= 0x40
+    corrupt.write_bytes(bytes(data))
+    with pytest.raises(pcl_icf.ModelFileError, match="checksum"):
+        pcl_icf.Model.from_file(str(corrupt))
+
+
+def test_from_file_uses_the_cache(tmp_path, monkeypatch):
+    """The second from_file of a mesh reads the cache ($XDG_CACHE_HOME/pcl_icf); cache=False
+    neither reads nor writes it."""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "home"))
+    mesh = str(DEMO / "box5.ply")
+    assert pcl_icf.Model.from_file(mesh).source == "built"
+    assert pcl_icf.Model.from_file(mesh).source == "cache"
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "other"))
+    assert pcl_icf.Model.from_file(mesh, cache=False).source == "built"
+    assert not (tmp_path / "other").exists()

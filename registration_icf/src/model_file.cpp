@@ -89,46 +89,76 @@ class Writer {
   std::string buf_;
 };
 
-/** Reads what Writer wrote; every read checked against the end (a truncated file). */
+std::uint32_t crc(std::uint32_t running, const char* data, std::size_t n) {
+  uLong c = running;
+  // zlib's length is a uInt: feed large buffers in pieces.
+  while (n > 0) {
+    const auto piece = static_cast<uInt>(std::min<std::size_t>(n, 1u << 30));
+    c = crc32(c, reinterpret_cast<const Bytef*>(data), piece);
+    data += piece;
+    n -= piece;
+  }
+  return static_cast<std::uint32_t>(c);
+}
+std::uint32_t crc(const char* data, std::size_t n) {
+  return crc(static_cast<std::uint32_t>(crc32(0L, Z_NULL, 0)), data, n);
+}
+
+/** Reads what Writer wrote straight from the file into its destination (one copy: a field is
+ * tens of megabytes), every read checked against the file's end (a truncated file), and a
+ * running CRC-32 of every byte read, compared by checksum() with the one stored there. */
 class Reader {
  public:
-  Reader(const char* begin, const char* end, std::string path)
-      : p_(begin), end_(end), path_(std::move(path)) {}
+  Reader(const std::string& path) : in_(path, std::ios::binary | std::ios::ate), path_(path) {
+    if (!in_)
+      throw ModelFileError(path + ": cannot be read");
+    left_ = static_cast<std::uint64_t>(std::max<std::streamoff>(0, in_.tellg()));
+    in_.seekg(0);
+  }
   template <typename T>
   T value() {
-    need(sizeof(T));
+    static_assert(std::is_trivially_copyable_v<T>);
     T v;
-    std::memcpy(&v, p_, sizeof(T));
-    p_ += sizeof(T);
+    take(reinterpret_cast<char*>(&v), sizeof(T), "ends early (truncated)");
     return v;
   }
   template <typename T>
   std::vector<T> array() {
     const auto n = value<std::uint64_t>();
-    if (n > static_cast<std::uint64_t>(end_ - p_) / sizeof(T))
+    if (n > left_ / sizeof(T))
       fail("an array runs past the end (truncated)");
     std::vector<T> v(static_cast<std::size_t>(n));
-    std::memcpy(v.data(), p_, v.size() * sizeof(T));
-    p_ += v.size() * sizeof(T);
+    take(reinterpret_cast<char*>(v.data()), v.size() * sizeof(T), "ends early (truncated)");
     return v;
   }
   std::string text(std::size_t n) {
-    need(n);
-    std::string s(p_, n);
-    p_ += n;
+    std::string s(std::min<std::uint64_t>(n, left_), '\0');
+    take(s.data(), n, "ends early (truncated)");
     return s;
   }
-  void need(std::size_t n) const {
-    if (static_cast<std::size_t>(end_ - p_) < n)
-      fail("ends early (truncated)");
+  /** Reads the CRC-32 stored next and compares it with that of every byte before it. */
+  void checksum() {
+    const std::uint32_t running = crc_;
+    if (value<std::uint32_t>() != running)
+      fail("checksum mismatch (corrupt or truncated)");
   }
-  bool done() const { return p_ == end_; }
+  std::uint64_t left() const { return left_; }
+  bool done() const { return left_ == 0; }
   [[noreturn]] void fail(const std::string& why) const { throw ModelFileError(path_ + ": " + why); }
 
  private:
-  const char* p_;
-  const char* end_;
+  void take(char* to, std::size_t n, const char* short_why) {
+    if (left_ < n)
+      fail(short_why);
+    if (!in_.read(to, static_cast<std::streamsize>(n)))
+      fail("cannot be read");
+    crc_ = crc(crc_, to, n);
+    left_ -= n;
+  }
+  std::ifstream in_;
   std::string path_;
+  std::uint64_t left_ = 0;
+  std::uint32_t crc_ = static_cast<std::uint32_t>(crc32(0L, Z_NULL, 0));
 };
 
 /** Eigen's fixed vectors are not trivially copyable: written as their scalars. */
@@ -161,16 +191,97 @@ std::vector<Eigen::Vector3f> getPoints(Reader& r) {
   return points;
 }
 
-std::uint32_t crc(const char* data, std::size_t n) {
-  uLong c = crc32(0L, Z_NULL, 0);
-  // zlib's length is a uInt: feed large buffers in pieces.
-  while (n > 0) {
-    const auto piece = static_cast<uInt>(std::min<std::size_t>(n, 1u << 30));
-    c = crc32(c, reinterpret_cast<const Bytef*>(data), piece);
-    data += piece;
-    n -= piece;
+/** The mesh a file was prepared from, as PCL holds it: the vertex cloud's layout and bytes and
+ * the faces' vertex indices. */
+void putMesh(Writer& w, const pcl::PolygonMesh& mesh) {
+  const pcl::PCLPointCloud2& c = mesh.cloud;
+  w.values(c.width, c.height, c.point_step, c.row_step, c.is_bigendian, c.is_dense);
+  w.value(static_cast<std::uint64_t>(c.fields.size()));
+  for (const auto& f : c.fields) {
+    w.value(static_cast<std::uint64_t>(f.name.size()));
+    w.bytes().append(f.name);
+    w.values(f.offset, f.datatype, f.count);
   }
-  return static_cast<std::uint32_t>(c);
+  w.array(c.data);
+  std::vector<std::uint64_t> sizes;
+  std::vector<pcl::index_t> indices;
+  sizes.reserve(mesh.polygons.size());
+  for (const auto& p : mesh.polygons) {
+    sizes.push_back(p.vertices.size());
+    indices.insert(indices.end(), p.vertices.begin(), p.vertices.end());
+  }
+  w.array(sizes);
+  w.array(indices);
+}
+
+pcl::PolygonMesh getMesh(Reader& r) {
+  pcl::PolygonMesh mesh;
+  pcl::PCLPointCloud2& c = mesh.cloud;
+  c.width = r.value<decltype(c.width)>();
+  c.height = r.value<decltype(c.height)>();
+  c.point_step = r.value<decltype(c.point_step)>();
+  c.row_step = r.value<decltype(c.row_step)>();
+  c.is_bigendian = r.value<decltype(c.is_bigendian)>();
+  c.is_dense = r.value<decltype(c.is_dense)>();
+  const auto fields = r.value<std::uint64_t>();
+  if (fields > 64)
+    r.fail("the mesh's vertices have too many fields (corrupt)");
+  for (std::uint64_t k = 0; k < fields; ++k) {
+    pcl::PCLPointField f;
+    const auto name = r.value<std::uint64_t>();
+    if (name > 256)
+      r.fail("a vertex field's name is too long (corrupt)");
+    f.name = r.text(static_cast<std::size_t>(name));
+    f.offset = r.value<decltype(f.offset)>();
+    f.datatype = r.value<decltype(f.datatype)>();
+    f.count = r.value<decltype(f.count)>();
+    c.fields.push_back(f);
+  }
+  c.data = r.array<std::uint8_t>();
+  if (static_cast<std::uint64_t>(c.width) * c.height * c.point_step != c.data.size())
+    r.fail("the mesh's vertex bytes do not match its size (corrupt)");
+  const std::vector<std::uint64_t> sizes = r.array<std::uint64_t>();
+  const std::vector<pcl::index_t> indices = r.array<pcl::index_t>();
+  std::size_t next = 0;
+  mesh.polygons.resize(sizes.size());
+  for (std::size_t p = 0; p < sizes.size(); ++p) {
+    if (sizes[p] > indices.size() - next)
+      r.fail("the mesh's faces run past their indices (corrupt)");
+    mesh.polygons[p].vertices.assign(
+        indices.begin() + static_cast<std::ptrdiff_t>(next),
+        indices.begin() + static_cast<std::ptrdiff_t>(next + sizes[p]));
+    next += sizes[p];
+  }
+  if (next != indices.size())
+    r.fail("the mesh's faces leave indices over (corrupt)");
+  return mesh;
+}
+
+/** A file's checked contents up to the model: the header, the key and the mesh, verified by
+ * the magic, the version and the checksum after the mesh; \a reader left at the field. */
+struct OpenedFile {
+  std::unique_ptr<Reader> reader;
+  std::string key;
+  pcl::PolygonMesh mesh;
+};
+
+OpenedFile openModelFile(const std::string& path) {
+  OpenedFile file;
+  file.reader = std::make_unique<Reader>(path);
+  Reader& r = *file.reader;
+  if (r.left() < sizeof(kMagic) || r.text(sizeof(kMagic)) != std::string(kMagic, sizeof(kMagic)))
+    r.fail("not a pcl_icf prepared model");
+  const auto version = r.value<std::uint32_t>();
+  if (version != kModelFileVersion)
+    r.fail("format version " + std::to_string(version) + ", this build reads " +
+           std::to_string(kModelFileVersion));
+  const auto key_size = r.value<std::uint64_t>();
+  if (key_size > 64)
+    r.fail("its key is not a key (corrupt)");
+  file.key = r.text(static_cast<std::size_t>(key_size));
+  file.mesh = getMesh(r);
+  r.checksum();
+  return file;
 }
 
 }  // namespace
@@ -286,12 +397,15 @@ std::string preparationKey(const pcl::PolygonMesh& mesh, const IcfModelParams& p
   return h.hex();
 }
 
-void writeModelFile(const IcfModel& model, const std::string& key, const std::string& path) {
+void writeModelFile(const IcfModel& model, const pcl::PolygonMesh& mesh, const std::string& key,
+                    const std::string& path) {
   Writer w;
   w.bytes().append(kMagic, sizeof(kMagic));
   w.value(static_cast<std::uint32_t>(kModelFileVersion));
   w.value(static_cast<std::uint64_t>(key.size()));
   w.bytes().append(key);
+  putMesh(w, mesh);
+  w.value(crc(w.bytes().data(), w.bytes().size()));
   ModelFileAccess::write(w, ModelFileAccess::field(model));
   ModelFileAccess::write(w, ModelFileAccess::pairs(model));
   w.value(crc(w.bytes().data(), w.bytes().size()));
@@ -327,36 +441,14 @@ namespace {
 /** readModelFile for a mesh whose preparationKey is \a want. */
 IcfModel::ConstPtr readModelFileWithKey(const std::string& path, const pcl::PolygonMesh& mesh,
                                         const IcfModelParams& params, const std::string& want) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in)
-    throw ModelFileError(path + ": cannot be read");
-  std::string data(static_cast<std::size_t>(std::max<std::streamoff>(0, in.tellg())), '\0');
-  in.seekg(0);
-  if (!in.read(data.data(), static_cast<std::streamsize>(data.size())))
-    throw ModelFileError(path + ": cannot be read");
-  if (data.size() < sizeof(kMagic) || std::memcmp(data.data(), kMagic, sizeof(kMagic)) != 0)
-    throw ModelFileError(path + ": not a pcl_icf prepared model");
-  if (data.size() < sizeof(kMagic) + sizeof(std::uint32_t) * 2)
-    throw ModelFileError(path + ": ends early (truncated)");
-  Reader head(data.data() + sizeof(kMagic), data.data() + data.size(), path);
-  const auto version = head.value<std::uint32_t>();
-  if (version != kModelFileVersion)
-    throw ModelFileError(path + ": format version " + std::to_string(version) +
-                         ", this build reads " + std::to_string(kModelFileVersion));
-  const std::size_t body = data.size() - sizeof(std::uint32_t);
-  std::uint32_t stored = 0;
-  std::memcpy(&stored, data.data() + body, sizeof(stored));
-  if (crc(data.data(), body) != stored)
-    throw ModelFileError(path + ": checksum mismatch (corrupt or truncated)");
-  Reader r(data.data() + sizeof(kMagic) + sizeof(std::uint32_t), data.data() + body, path);
-  const auto key_size = r.value<std::uint64_t>();
-  if (key_size > 64)
-    r.fail("its key is not a key (corrupt)");
-  const std::string key = r.text(static_cast<std::size_t>(key_size));
-  if (key != want)
-    r.fail("prepared from another mesh or other parameters (key " + key + ", wanted " + want + ")");
+  OpenedFile file = openModelFile(path);
+  Reader& r = *file.reader;
+  if (file.key != want)
+    r.fail("prepared from another mesh or other parameters (key " + file.key + ", wanted " + want +
+           ")");
   auto field = ModelFileAccess::readField(r);
   auto pairs = ModelFileAccess::readPairs(r);
+  r.checksum();
   if (!r.done())
     r.fail("holds more than a model (corrupt)");
   return ModelFileAccess::assemble(mesh, params, std::move(field), std::move(pairs));
@@ -367,6 +459,16 @@ IcfModel::ConstPtr readModelFileWithKey(const std::string& path, const pcl::Poly
 IcfModel::ConstPtr readModelFile(const std::string& path, const pcl::PolygonMesh& mesh,
                                  const IcfModelParams& params) {
   return readModelFileWithKey(path, mesh, params, preparationKey(mesh, params));
+}
+
+bool isModelFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[sizeof(kMagic)] = {};
+  return in.read(magic, sizeof(magic)) && std::memcmp(magic, kMagic, sizeof(kMagic)) == 0;
+}
+
+pcl::PolygonMesh readModelFileMesh(const std::string& path) {
+  return openModelFile(path).mesh;
 }
 
 std::string defaultModelCacheFolder() {
@@ -400,7 +502,7 @@ CachedModel buildModelCached(const pcl::PolygonMesh& mesh, const IcfModelParams&
   out.model = IcfModel::build(mesh, params);
   fs::create_directories(folder, ec);
   try {
-    writeModelFile(*out.model, key, out.path);
+    writeModelFile(*out.model, mesh, key, out.path);
   } catch (const ModelFileError& e) {
     out.warning +=
         (out.warning.empty() ? "" : "; ") + std::string(e.what()) + " (the model is not cached)";

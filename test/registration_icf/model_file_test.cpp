@@ -48,7 +48,7 @@ class ModelFile : public pcl_icf_test::TempDirTest {
 
 TEST_F(ModelFile, ReadsBackTheModelBuildMakes) {
   const IcfModel::ConstPtr built = IcfModel::build(mesh_);
-  writeModelFile(*built, preparationKey(mesh_, {}), path("cup.icfmodel"));
+  writeModelFile(*built, mesh_, preparationKey(mesh_, {}), path("cup.icfmodel"));
   const IcfModel::ConstPtr read = readModelFile(path("cup.icfmodel"), mesh_, {});
   // The field: every lookup the same, bit for bit, over its box and beyond.
   std::mt19937 rng(7);
@@ -81,9 +81,39 @@ TEST_F(ModelFile, ReadsBackTheModelBuildMakes) {
   EXPECT_EQ(read->samples().size(), built->samples().size());
 }
 
+// A file stands alone: the mesh it holds is the mesh it was prepared from, byte for byte, and
+// that mesh reads the model back.
+TEST_F(ModelFile, HoldsTheMeshItWasPreparedFrom) {
+  const std::string file = path("cup.icfmodel");
+  writeModelFile(*IcfModel::build(mesh_), mesh_, preparationKey(mesh_, {}), file);
+  EXPECT_TRUE(isModelFile(file));
+  const pcl::PolygonMesh mesh = readModelFileMesh(file);
+  EXPECT_EQ(mesh.cloud.data, mesh_.cloud.data);
+  EXPECT_EQ(mesh.cloud.width, mesh_.cloud.width);
+  EXPECT_EQ(mesh.cloud.point_step, mesh_.cloud.point_step);
+  ASSERT_EQ(mesh.cloud.fields.size(), mesh_.cloud.fields.size());
+  for (std::size_t f = 0; f < mesh.cloud.fields.size(); ++f) {
+    EXPECT_EQ(mesh.cloud.fields[f].name, mesh_.cloud.fields[f].name);
+    EXPECT_EQ(mesh.cloud.fields[f].offset, mesh_.cloud.fields[f].offset);
+  }
+  ASSERT_EQ(mesh.polygons.size(), mesh_.polygons.size());
+  for (std::size_t p = 0; p < mesh.polygons.size(); ++p)
+    ASSERT_EQ(mesh.polygons[p].vertices, mesh_.polygons[p].vertices) << "face " << p;
+  EXPECT_EQ(preparationKey(mesh, {}), preparationKey(mesh_, {}));
+  EXPECT_EQ(refusal(file, mesh), "");
+
+  spit(path("mesh.ply"), "ply\nformat ascii 1.0\n");
+  EXPECT_FALSE(isModelFile(path("mesh.ply")));
+  EXPECT_FALSE(isModelFile(path("absent")));
+  std::string bytes = slurp(file);
+  bytes[40] ^= 0x01;  // inside the mesh's section
+  spit(path("flipped"), bytes);
+  EXPECT_THROW(readModelFileMesh(path("flipped")), ModelFileError);
+}
+
 TEST_F(ModelFile, EveryUnusableFileIsRefusedWithItsReason) {
   const std::string good = path("cup.icfmodel");
-  writeModelFile(*IcfModel::build(mesh_), preparationKey(mesh_, {}), good);
+  writeModelFile(*IcfModel::build(mesh_), mesh_, preparationKey(mesh_, {}), good);
   const std::string bytes = slurp(good);
   ASSERT_GT(bytes.size(), 1000u);
 
@@ -164,13 +194,13 @@ TEST_F(ModelFile, RacingWritersNeverLeaveABrokenEntry) {
   const IcfModel::ConstPtr model = IcfModel::build(mesh_);
   const std::string key = preparationKey(mesh_, {});
   const std::string entry = path("entry.icfmodel");
-  writeModelFile(*model, key, entry);
+  writeModelFile(*model, mesh_, key, entry);
   std::atomic<bool> stop{false};
   std::vector<std::thread> writers;
   for (int w = 0; w < 3; ++w)
     writers.emplace_back([&] {
       while (!stop)
-        writeModelFile(*model, key, entry);
+        writeModelFile(*model, mesh_, key, entry);
     });
   int reads = 0;
   for (; reads < 20; ++reads)

@@ -520,12 +520,31 @@ TEST_F(Tool, SeveralModelsOneCallOneDocument) {
   for (const char* key : {"scene", "selection", "localization", "total"})
     EXPECT_TRUE(j["timing_ms"].contains(key)) << key;
 
-  // What one pass cannot do yet, and bad lists: exit 2 with the reason.
+  // The frame's picture: the box drawn in the first object's green, the legend's line for the
+  // crate (not found) in the second object's orange.
   const std::string two = quote(demo("tabletop_box5.pcd")) + " " + quote(demo("box5.ply")) + " " +
                           quote(path("crate.ply"));
   const Result render = run(two + " --render " + quote(path("r.png")));
-  EXPECT_EQ(render.code, 2);
-  EXPECT_NE(render.err.find("--json"), std::string::npos) << render.err;
+  ASSERT_EQ(render.code, 0) << render.err;
+  auto reader = vtkSmartPointer<vtkPNGReader>::New();
+  reader->SetFileName(path("r.png").c_str());
+  reader->Update();
+  auto* pixels =
+      vtkUnsignedCharArray::SafeDownCast(reader->GetOutput()->GetPointData()->GetScalars());
+  ASSERT_NE(pixels, nullptr);
+  std::size_t green = 0, orange = 0;
+  for (vtkIdType i = 0; i < pixels->GetNumberOfTuples(); ++i) {
+    const unsigned char* p = pixels->GetPointer(i * pixels->GetNumberOfComponents());
+    green += p[1] > 120 && p[1] > p[0] + 60 && p[1] > p[2] + 30;
+    orange += p[0] > 200 && p[1] > 90 && p[1] < 190 && p[2] < 80;
+  }
+  EXPECT_GT(green, 2000u) << "the box is not in the picture";
+  EXPECT_GT(orange, 30u) << "the crate's legend line is not in the picture";
+
+  // What one pass cannot do, and bad lists: exit 2 with the reason.
+  const Result output = run(two + " --output " + quote(path("r.ply")));
+  EXPECT_EQ(output.code, 2);
+  EXPECT_NE(output.err.find("--json"), std::string::npos) << output.err;
   const Result missing =
       run(quote(demo("tabletop_box5.pcd")) + " --models " + quote(path("nothing.txt")));
   EXPECT_EQ(missing.code, 2);
@@ -578,6 +597,40 @@ TEST_F(Tool, PreparedModelsAreCachedAndNoCacheSkipsIt) {
   EXPECT_FALSE(fromCache());
   EXPECT_FALSE(fs::exists(untouched)) << "--no-cache wrote a cache";
   fs::remove_all(cache);
+}
+
+// --prepare MODEL -o FILE: the file stands alone (the mesh is not read again) and gives the
+// pose the mesh gives; in other units it is refused, not used; bad usage exits 2.
+TEST_F(Tool, PreparedModelFileStandsInForTheMesh) {
+  const std::string mesh = path("box5.ply");
+  fs::copy_file(demo("box5.ply"), mesh);
+  const std::string prepared = path("box5.icfmodel");
+  const Result made = run("--prepare " + quote(mesh) + " -o " + quote(prepared), path("home"));
+  ASSERT_EQ(made.code, 0) << made.err;
+  EXPECT_NE(made.out.find("wrote  " + prepared), std::string::npos) << made.out;
+  const std::string scene = quote(demo("tabletop_box5.pcd"));
+  ASSERT_EQ(
+      run(scene + " " + quote(mesh) + " --no-cache --force --json " + quote(path("a.json"))).code,
+      0);
+  fs::remove(mesh);  // the prepared file needs no mesh beside it
+  ASSERT_EQ(
+      run(scene + " " + quote(prepared) + " --no-cache --force --json " + quote(path("b.json")))
+          .code,
+      0);
+  const json a = json::parse(slurp(path("a.json"))), b = json::parse(slurp(path("b.json")));
+  EXPECT_TRUE(b["model_info"]["from_prepared_file"].get<bool>());
+  EXPECT_FALSE(a["model_info"]["from_prepared_file"].get<bool>());
+  EXPECT_EQ(b["best"]["pose"], a["best"]["pose"]);
+
+  const Result units = run(scene + " " + quote(prepared) + " --no-cache --model-units mm");
+  EXPECT_EQ(units.code, 2);
+  EXPECT_NE(units.err.find("other units"), std::string::npos) << units.err;
+  EXPECT_EQ(run("--prepare " + quote(prepared)).code, 2) << "-o missing";
+  EXPECT_EQ(run("--prepare " + quote(prepared) + " -o " + quote(path("x.ply"))).code, 2);
+  EXPECT_EQ(run("--prepare " + quote(prepared) + " -o " + quote(prepared)).code, 2)
+      << "the input overwritten";
+  EXPECT_EQ(run(scene + " --prepare " + quote(prepared) + " -o " + quote(path("y.icfmodel"))).code,
+            2);
 }
 
 TEST_F(Tool, HelpPrintsUsage) {

@@ -5,6 +5,7 @@
 // pcl_icf_tool: find a CAD mesh's 6D pose in a depth scan (doc/USER_GUIDE.md).
 //   pcl_icf_tool SCENE MODEL [options]
 //   pcl_icf_tool --batch SCENES MODEL --out-dir DIR [options]
+//   pcl_icf_tool --prepare MODEL -o FILE.icfmodel
 // Segments the table, localises the model in every cluster, prints the clusters and the best
 // pose, and writes on request the result as JSON, the posed model as PLY and a picture.
 // Exit codes: 0 object found, 1 nothing accepted, 2 bad usage or bad input.
@@ -89,15 +90,7 @@ int runSingle(const ToolOptions& options) {
         std::printf("wrote  %s\n", options.output.c_str());
     }
   }
-  const auto input = renderInput(scene, options, posed, caption(model, run));
-  if (!options.render.empty()) {
-    writePng(options.render, input, options.force);
-    if (!quiet)
-      std::printf("wrote  %s\n", options.render.c_str());
-  }
-  std::fflush(stdout);
-  if (options.view)
-    pcl_icf_tool::runViewer(input);
+  showPicture(renderInput(scene, options, posed, caption(model, run)), options);
   return code;
 }
 
@@ -121,6 +114,8 @@ int main(int argc, char** argv) {
     vtkObject::GlobalWarningDisplayOff();
   }
   try {
+    if (!options.prepare.empty())
+      return runPrepare(options);
     const bool render = !options.render.empty() || options.render_all;
     if (options.view && !pcl_icf_tool::haveDisplay())
       throw OutputError(

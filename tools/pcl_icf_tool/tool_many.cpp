@@ -4,6 +4,9 @@
  */
 #include "tool_many.h"
 
+#include "tool_mesh.h"
+#include "tool_render.h"
+
 #include "tool_results.h"
 #include "tool_run.h"
 
@@ -17,21 +20,6 @@ namespace pcl_icf_tool {
 namespace localization = pcl::icf::localization;
 
 namespace {
-
-/** What reports call model \a k: its file's name, with its place when two files share it. */
-std::vector<std::string> modelNames(const std::vector<std::string>& paths) {
-  std::vector<std::string> names;
-  for (const auto& p : paths)
-    names.push_back(std::filesystem::path(p).filename().string());
-  for (std::size_t a = 0; a < names.size(); ++a)
-    for (std::size_t b = a + 1; b < names.size(); ++b)
-      if (names[a] == names[b]) {
-        for (std::size_t k = 0; k < names.size(); ++k)
-          names[k] += " #" + std::to_string(k);
-        return names;
-      }
-  return names;
-}
 
 json frameJson(const Scene& scene, const std::vector<Model>& models,
                const std::vector<std::string>& names, const ToolOptions& options,
@@ -60,6 +48,7 @@ json frameJson(const Scene& scene, const std::vector<Model>& models,
                        {"model_units", pcl_icf_tool::unitsName(models[k].units)},
                        {"max_instances", options.model_counts[k]},
                        {"from_cache", models[k].from_cache},
+                       {"from_prepared_file", models[k].from_prepared_file},
                        {"status", localization::toString(loc.status)},
                        {"message", loc.message},
                        {"instances", instances},
@@ -115,6 +104,34 @@ void printFrame(const Scene& scene, const std::vector<std::string>& names,
               all.selection_ms);
 }
 
+/** The frame's picture: every accepted instance in its object's colour (the first object's is
+ * --render-color), a legend line per object. */
+RenderInput framePicture(const Scene& scene, const std::vector<Model>& models,
+                         const std::vector<std::string>& names, const ToolOptions& options,
+                         const localization::ObjectsLocalization& all) {
+  RenderInput in = renderInput(scene, options, {}, "");
+  std::size_t found = 0;
+  for (std::size_t k = 0; k < models.size(); ++k) {
+    const localization::Localization& loc = all.objects[k];
+    const Eigen::Vector3f colour = k == 0 ? options.render_colour : objectColour(k);
+    std::string line = names[k] + ": ";
+    if (loc.instances.empty())
+      line += "not found";
+    for (std::size_t n = 0; n < loc.instances.size(); ++n) {
+      const auto& c = loc.clusters[static_cast<std::size_t>(loc.instances[n])];
+      in.models.push_back({posedMesh(models[k].mesh, scenePose(c, scene.metres_per_unit),
+                                     models[k].metres_per_unit / scene.metres_per_unit),
+                           colour});
+      line += (n == 0 ? "confidence " : ", ") + fixed(c.verification.confidence, 2);
+    }
+    found += !loc.instances.empty();
+    in.legend.push_back({line, colour});
+  }
+  in.caption = std::filesystem::path(scene.path).filename().string() + ": " +
+               std::to_string(found) + " of " + std::to_string(models.size()) + " objects found";
+  return in;
+}
+
 }  // namespace
 
 int runMany(const ToolOptions& options) {
@@ -146,6 +163,8 @@ int runMany(const ToolOptions& options) {
     if (!quiet)
       std::printf("wrote  %s\n", options.json.c_str());
   }
+  if (!options.render.empty() || options.view)
+    showPicture(framePicture(scene, models, names, options, all), options);
   return all.status == localization::LocalizationStatus::Found ? 0 : 1;
 }
 

@@ -204,6 +204,14 @@ void readModelList(const std::string& list, int default_count, std::vector<std::
 /** The mode (one scene, --batch or --track) from the positional arguments, and the options
  * that belong to another mode refused. \throws UsageError. */
 void checkMode(ToolOptions& o, const std::vector<std::string>& positional, bool idle_given) {
+  if (!o.prepare.empty() || !o.prepare_output.empty()) {
+    if (o.prepare.empty() || o.prepare_output.empty())
+      throw UsageError("--prepare MODEL and -o FILE go together");
+    if (!positional.empty() || !o.track.empty() || !o.batch.empty() || !o.models_list.empty() ||
+        !o.json.empty() || !o.output.empty() || !o.render.empty() || o.view || o.no_cache)
+      throw UsageError("--prepare MODEL -o FILE takes no scene, other model or output");
+    return;
+  }
   if (!o.models_list.empty() && (!o.track.empty() || !o.batch.empty()))
     throw UsageError(
         "--models is for one scene; --track and --batch take their MODELs as "
@@ -245,8 +253,8 @@ void checkMode(ToolOptions& o, const std::vector<std::string>& positional, bool 
       o.params.max_instances = o.model_counts.front();
       o.models.clear();
       o.model_counts.clear();
-    } else if (!o.output.empty() || !o.render.empty() || o.view) {
-      throw UsageError("--output, --render and --view take one MODEL; for several, --json");
+    } else if (!o.output.empty()) {
+      throw UsageError("--output takes one MODEL; for several, --json and --render");
     } else if (o.params.colour.expected) {
       throw UsageError("--color describes one object: give one MODEL with it");
     }
@@ -326,6 +334,10 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
       idle_given = true;
     } else if (a == "--models")
       o.models_list = args.value(a);
+    else if (a == "--prepare")
+      o.prepare = args.value(a);
+    else if (a == "-o")
+      o.prepare_output = args.value(a);
     else if (a == "--out-dir")
       o.out_dir = args.value(a);
     else if (a == "--render-all") {
@@ -365,13 +377,18 @@ std::string usageText(const std::string& program) {
     << "Syntax is: " << program << " SCENE MODEL <options>\n"
     << "       or: " << program << " SCENE MODEL MODEL... | --models LIST <options>\n"
     << "       or: " << program << " --batch SCENES MODEL --out-dir DIR <options>\n"
+    << "       or: " << program << " --prepare MODEL -o FILE.icfmodel [--model-units U]\n"
     << "  SCENE  a point cloud: .pcd, .ply, or .xyz/.asc (one \"x y z\" per line)\n"
-    << "  MODEL  the object's mesh: .ply, .obj, .stl or .vtk; with several, every one is\n"
-    << "         searched for in one pass and each scene point explains one pose at most\n"
+    << "  MODEL  the object's mesh: .ply, .obj, .stl or .vtk, or a prepared model\n"
+    << "         (.icfmodel, see --prepare); with several, every one is searched for in\n"
+    << "         one pass and each scene point explains one pose at most\n"
     << "    --models LIST            = more MODELs, from a file: \"MODEL [COUNT]\" a line\n"
     << "                               (COUNT: at most that many instances, default\n"
     << "                               --max-instances;\n"
     << "                               paths relative to the file's folder, '#' comments)\n"
+    << "    --prepare MODEL -o FILE  = prepare MODEL once (its closest-point field and point\n"
+    << "                               pair table) and write it, with its mesh, to\n"
+    << "                               FILE.icfmodel, which loads in milliseconds\n"
     << "  where options are:\n"
     << "  Input:\n"
     << "    --no-cache               = prepare every model afresh: read and write no\n"

@@ -75,9 +75,12 @@ struct ToolOptions {
   Eigen::Vector3f render_colour{0.1f, 1.0f, 0.2f};  ///< --render-color, channels in [0, 1]
   bool view = false;                                ///< --view
   bool force = false;                               ///< --force
-  bool no_cache = false;  ///< --no-cache: prepare every model, read no cache, write none
-  bool quiet = false;     ///< -q
-  bool verbose = false;   ///< -v: PCL's and VTK's own messages too
+  /** --prepare MODEL -o FILE: MODEL prepared and written to FILE.icfmodel, nothing found. */
+  std::string prepare;
+  std::string prepare_output;  ///< -o FILE (--prepare)
+  bool no_cache = false;       ///< --no-cache: prepare every model, read no cache, write none
+  bool quiet = false;          ///< -q
+  bool verbose = false;        ///< -v: PCL's and VTK's own messages too
 };
 
 /** \brief Parse argv. \throws UsageError with a one-line reason. Calls params.validate(). */

@@ -179,38 +179,44 @@ void populate(pcl::visualization::PCLVisualizer& viewer, const RenderInput& inpu
   }
   viewer.setPointCloudRenderingProperties(pcl::visualization::PCL_VISUALIZER_POINT_SIZE,
                                           cam.point_size, "scene");
-  if (input.posed_model) {
+  for (std::size_t k = 0; k < input.models.size(); ++k) {
     // Pull the model 1% of its distance towards the camera: the picture's geometry is
     // unchanged (points slide along their rays) but the model is drawn over the scan's own
     // points of its surface, which the sensor's noise scatters in front of and behind it.
+    const DrawnModel& model = input.models[k];
     pcl::PointCloud<pcl::PointXYZ> vertices;
-    pcl::fromPCLPointCloud2(input.posed_model->cloud, vertices);
+    pcl::fromPCLPointCloud2(model.mesh.cloud, vertices);
     const Eigen::Vector3f eye = cam.position.cast<float>();
     for (auto& v : vertices)
       v.getVector3fMap() = eye + 0.99f * (v.getVector3fMap() - eye);
     pcl::PolygonMesh front;
     pcl::toPCLPointCloud2(vertices, front.cloud);
-    front.polygons = input.posed_model->polygons;
-    viewer.addPolygonMesh(front, "model");
-    const Eigen::Vector3f& c = input.model_colour;
+    front.polygons = model.mesh.polygons;
+    const std::string id = "model" + std::to_string(k);
+    viewer.addPolygonMesh(front, id);
+    const Eigen::Vector3f& c = model.colour;
     viewer.setPointCloudRenderingProperties(pcl::visualization::PCL_VISUALIZER_COLOR, c.x(), c.y(),
-                                            c.z(), "model");
-    viewer.setPointCloudRenderingProperties(pcl::visualization::PCL_VISUALIZER_OPACITY, 0.75,
-                                            "model");
+                                            c.z(), id);
+    viewer.setPointCloudRenderingProperties(pcl::visualization::PCL_VISUALIZER_OPACITY, 0.75, id);
   }
   viewer.setSize(cam.width, cam.height);
   vtkRenderer* renderer = viewer.getRendererCollection()->GetFirstRenderer();
-  if (!input.caption.empty()) {
-    // White with a dark shadow, readable over light and dark scenes.
+  // Text in white or its legend colour with a dark shadow, readable over light and dark scenes.
+  const auto addLine = [&](const std::string& line, const Eigen::Vector3f& colour, int y) {
     auto text = vtkSmartPointer<vtkTextActor>::New();
-    text->SetInput(input.caption.c_str());
+    text->SetInput(line.c_str());
     vtkTextProperty* style = text->GetTextProperty();
     style->SetFontSize(14);
-    style->SetColor(1.0, 1.0, 1.0);
+    style->SetColor(colour.x(), colour.y(), colour.z());
     style->ShadowOn();
-    text->SetDisplayPosition(6, cam.height - 22);
+    text->SetDisplayPosition(6, y);
     renderer->AddActor2D(text);
-  }
+  };
+  if (!input.caption.empty())
+    addLine(input.caption, Eigen::Vector3f::Ones(), cam.height - 22);
+  for (std::size_t k = 0; k < input.legend.size(); ++k)
+    addLine(input.legend[k].text, input.legend[k].colour,
+            6 + 18 * static_cast<int>(input.legend.size() - 1 - k));
   viewer.setCameraPosition(cam.position.x(), cam.position.y(), cam.position.z(), cam.focal.x(),
                            cam.focal.y(), cam.focal.z(), cam.up.x(), cam.up.y(), cam.up.z());
   vtkCamera* camera = renderer->GetActiveCamera();
@@ -220,6 +226,13 @@ void populate(pcl::visualization::PCLVisualizer& viewer, const RenderInput& inpu
 }
 
 }  // namespace
+
+Eigen::Vector3f objectColour(std::size_t k) {
+  static const Eigen::Vector3f kColours[] = {
+      {0.1f, 1.0f, 0.2f},  {1.0f, 0.55f, 0.1f},  {1.0f, 0.2f, 0.85f},  {0.1f, 0.85f, 1.0f},
+      {1.0f, 0.95f, 0.1f}, {1.0f, 0.15f, 0.15f}, {0.35f, 0.45f, 1.0f}, {0.7f, 1.0f, 0.6f}};
+  return kColours[k % (sizeof(kColours) / sizeof(kColours[0]))];
+}
 
 std::string ensureDisplayOrReexec(int argc, char** argv, bool need_render) {
   if (!need_render || haveDisplay())

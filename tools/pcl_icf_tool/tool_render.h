@@ -17,20 +17,36 @@
 #include <Eigen/Core>
 
 #include <string>
+#include <vector>
 
 namespace pcl_icf_tool {
+
+/** \brief One model drawn at its pose, in the scene's units and frame. */
+struct DrawnModel {
+  pcl::PolygonMesh mesh;
+  Eigen::Vector3f colour{0.1f, 1.0f, 0.2f};  ///< channels in [0, 1]
+};
+
+/** \brief One line of a picture's legend, written in its colour. */
+struct LegendLine {
+  std::string text;
+  Eigen::Vector3f colour{1.0f, 1.0f, 1.0f};
+};
 
 /** \brief What a picture shows. Everything in the scene's units and frame. */
 struct RenderInput {
   pcl::PointCloud<pcl::PointXYZRGBA>::ConstPtr scene;
-  bool scene_has_colour = true;  ///< false: colour the scene by depth
-  /** The model at its pose, or nullptr to show the scene alone. */
-  const pcl::PolygonMesh* posed_model = nullptr;
-  Eigen::Vector3f model_colour{0.1f, 1.0f, 0.2f};
-  std::string caption;  ///< one line at the top left ("" for none)
-  int width = 0;        ///< 0: default (see renderPng)
+  bool scene_has_colour = true;    ///< false: colour the scene by depth
+  std::vector<DrawnModel> models;  ///< the models at their poses (none: the scene alone)
+  std::vector<LegendLine> legend;  ///< lines at the bottom left (none: no legend)
+  std::string caption;             ///< one line at the top left ("" for none)
+  int width = 0;                   ///< 0: default (see renderPng)
   int height = 0;
 };
+
+/** \brief The colour of the \a k-th object in a picture of several: eight that tell apart on
+ * a colour or depth-coloured scene, the tool's green first, then again from the start. */
+Eigen::Vector3f objectColour(std::size_t k);
 
 /** \brief True when an X display is named in DISPLAY. */
 bool haveDisplay();

@@ -167,7 +167,8 @@ json resultJson(const Scene& scene, const Model& model, const ToolOptions& optio
       {"vertices", static_cast<std::size_t>(model.mesh.cloud.width) * model.mesh.cloud.height},
       {"faces", model.icf->mesh().size()},
       {"radius", model.icf->radius() / scene.metres_per_unit},
-      {"from_cache", model.from_cache}};
+      {"from_cache", model.from_cache},
+      {"from_prepared_file", model.from_prepared_file}};
   j["timing_ms"] = {
       {"load_scene", timing.load_scene},         {"load_model", timing.load_model},
       {"build_model", timing.build_model},       {"segmentation", run.loc.segmentation_ms},
@@ -272,6 +273,17 @@ void writePly(const std::string& path, const pcl::PolygonMesh& mesh, bool force)
 void writePng(const std::string& path, const RenderInput& input, bool force) {
   pcl_icf_tool::writeAtomically(
       path, force, [&](const std::string& tmp) { pcl_icf_tool::renderPng(input, tmp); });
+}
+
+void showPicture(const RenderInput& input, const ToolOptions& options) {
+  if (!options.render.empty()) {
+    writePng(options.render, input, options.force);
+    if (!options.quiet)
+      std::printf("wrote  %s\n", options.render.c_str());
+  }
+  std::fflush(stdout);
+  if (options.view)
+    runViewer(input);
 }
 
 }  // namespace pcl_icf_tool

@@ -42,4 +42,8 @@ void writePly(const std::string& path, const pcl::PolygonMesh& mesh, bool force)
 /** Renders \a input off-screen into a PNG, atomically. */
 void writePng(const std::string& path, const RenderInput& input, bool force);
 
+/** The picture of one scene as asked: written to --render (said unless -q), then shown with
+ * --view (returns when the window is closed). */
+void showPicture(const RenderInput& input, const ToolOptions& options);
+
 }  // namespace pcl_icf_tool

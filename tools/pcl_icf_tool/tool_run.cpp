@@ -7,6 +7,7 @@
 #include <pcl/icf/model_file.h>
 
 #include "tool_mesh.h"
+#include "tool_output.h"
 
 #include <pcl/icf/face_mesh.h>
 #include <pcl/icf/io/mesh_io.h>
@@ -50,16 +51,54 @@ std::string cacheFolder(const ToolOptions& options) {
   return options.no_cache ? std::string() : pcl::icf::defaultModelCacheFolder();
 }
 
+pcl::icf::IcfModelParams modelParams(double metres_per_unit) {
+  pcl::icf::IcfModelParams params;
+  params.mesh.scale = static_cast<float>(metres_per_unit);
+  return params;
+}
+
+namespace {
+
+/** The mesh of \a path: a mesh file, or the mesh a prepared-model file holds. */
+pcl::PolygonMesh readMesh(const std::string& path, bool prepared) {
+  try {
+    return prepared ? pcl::icf::readModelFileMesh(path) : pcl::icf::io::loadPolygonMesh(path);
+  } catch (const pcl::icf::io::FileError& e) {
+    throw BadInput(e.what());
+  } catch (const pcl::icf::ModelFileError& e) {
+    throw BadInput(e.what());
+  }
+}
+
+/** The model of \a m's mesh: read from its prepared file, or through the cache. */
+void prepareModel(Model& m, const std::string& cache_folder, bool quiet) {
+  const pcl::icf::IcfModelParams params = modelParams(m.metres_per_unit);
+  if (m.from_prepared_file) {
+    try {
+      m.icf = pcl::icf::readModelFile(m.path, m.mesh, params);
+    } catch (const pcl::icf::ModelFileError& e) {
+      throw BadInput(std::string(e.what()) +
+                     ": prepared in other units (give the --model-units it was prepared "
+                     "with) or by another version (prepare it again with --prepare)");
+    }
+    return;
+  }
+  const pcl::icf::CachedModel cached = pcl::icf::buildModelCached(m.mesh, params, cache_folder);
+  if (!cached.warning.empty() && !quiet)
+    warn(m.path + ": prepared-model cache: " + cached.warning);
+  m.icf = cached.model;
+  m.from_cache = cached.from_cache;
+}
+
+}  // namespace
+
 Model loadModel(const std::string& path, Units requested, bool quiet,
                 const std::string& cache_folder) {
   Model m;
   m.path = path;
+  m.from_prepared_file = pcl::icf::isModelFile(path);
   const auto start = Clock::now();
-  try {
-    m.mesh = pcl::icf::io::loadPolygonMesh(path);
-  } catch (const pcl::icf::io::FileError& e) {
-    throw BadInput(e.what());
-  }
+  m.mesh = readMesh(path, m.from_prepared_file);
   m.load_ms = msSince(start);
   if (m.mesh.polygons.empty())
     throw BadInput(path + ": the mesh has no faces (a point cloud is not a model)");
@@ -73,14 +112,8 @@ Model loadModel(const std::string& path, Units requested, bool quiet,
   }
   m.metres_per_unit = pcl_icf_tool::metresPerUnit(m.units);
   const auto build = Clock::now();
-  pcl::icf::IcfModelParams params;
-  params.mesh.scale = static_cast<float>(m.metres_per_unit);
   try {
-    const pcl::icf::CachedModel cached = pcl::icf::buildModelCached(m.mesh, params, cache_folder);
-    if (!cached.warning.empty() && !quiet)
-      warn(path + ": prepared-model cache: " + cached.warning);
-    m.icf = cached.model;
-    m.from_cache = cached.from_cache;
+    prepareModel(m, cache_folder, quiet);
   } catch (const pcl::icf::InvalidMeshError& e) {
     throw BadInput(path + ": not a usable model: " + e.what());
   } catch (const std::invalid_argument& e) {
@@ -88,6 +121,28 @@ Model loadModel(const std::string& path, Units requested, bool quiet,
   }
   m.build_ms = msSince(build);
   return m;
+}
+
+int runPrepare(const ToolOptions& options) {
+  checkOutputPath("-o", options.prepare_output, {options.prepare}, options.force);
+  if (pcl::icf::io::fileExtension(options.prepare_output) != "icfmodel")
+    throw OutputError("-o " + options.prepare_output +
+                      ": a prepared model is written as .icfmodel");
+  const Model m =
+      loadModel(options.prepare, options.model_units, options.quiet, cacheFolder(options));
+  const std::string key = pcl::icf::preparationKey(m.mesh, modelParams(m.metres_per_unit));
+  try {
+    pcl::icf::writeModelFile(*m.icf, m.mesh, key, options.prepare_output);
+  } catch (const pcl::icf::ModelFileError& e) {
+    throw OutputError(e.what());
+  }
+  if (!options.quiet)
+    std::printf(
+        "prepared %s (%zu faces, %s, %s) in %.0f ms\nwrote  %s\n", options.prepare.c_str(),
+        m.mesh.polygons.size(), unitsName(m.units),
+        m.from_prepared_file ? "from a prepared file" : (m.from_cache ? "from the cache" : "built"),
+        m.build_ms, options.prepare_output.c_str());
+  return 0;
 }
 
 Scene loadScene(const std::string& path, Units requested, bool quiet) {
@@ -194,13 +249,27 @@ pcl::PolygonMesh posedModel(const Scene& scene, const Model& model, const Run& r
                                  model.metres_per_unit / scene.metres_per_unit);
 }
 
+std::vector<std::string> modelNames(const std::vector<std::string>& paths) {
+  std::vector<std::string> names;
+  for (const auto& p : paths)
+    names.push_back(fs::path(p).filename().string());
+  for (std::size_t a = 0; a < names.size(); ++a)
+    for (std::size_t b = a + 1; b < names.size(); ++b)
+      if (names[a] == names[b]) {
+        for (std::size_t k = 0; k < names.size(); ++k)
+          names[k] += " #" + std::to_string(k);
+        return names;
+      }
+  return names;
+}
+
 RenderInput renderInput(const Scene& scene, const ToolOptions& options,
                         const pcl::PolygonMesh& posed, const std::string& text) {
   RenderInput in;
   in.scene = scene.input;
   in.scene_has_colour = scene.info.has_colour;
-  in.posed_model = posed.polygons.empty() ? nullptr : &posed;
-  in.model_colour = options.render_colour;
+  if (!posed.polygons.empty())
+    in.models.push_back({posed, options.render_colour});
   in.caption = text;
   in.width = options.render_width;
   in.height = options.render_height;

@@ -53,16 +53,26 @@ struct Model {
   double metres_per_unit = 1.0;
   pcl::icf::IcfModel::ConstPtr icf;  ///< in metres
   double load_ms = 0.0, build_ms = 0.0;
-  bool from_cache = false;  ///< read from the prepared-model cache, not built
+  bool from_cache = false;          ///< read from the prepared-model cache, not built
+  bool from_prepared_file = false;  ///< MODEL is a prepared-model file (--prepare's)
 };
 
 /** The prepared-model cache folder for \a options: "" with --no-cache, else
  * pcl::icf::defaultModelCacheFolder(). */
 std::string cacheFolder(const ToolOptions& options);
 
+/** What a model of \a metres_per_unit is prepared with (the library's defaults in metres). */
+pcl::icf::IcfModelParams modelParams(double metres_per_unit);
+
+/** --prepare MODEL -o FILE: the model prepared (or read from the cache) and written to FILE as
+ * a prepared-model file, which MODEL arguments then take in milliseconds. Exit 0.
+ * \throws BadInput, OutputError. */
+int runPrepare(const ToolOptions& options);
+
 /** Reads and prepares the model, through the prepared-model cache \a cache_folder ("" none);
- * --model-units auto decides mm or m from its extent. \throws BadInput for an unreadable file
- * or an unusable mesh. */
+ * --model-units auto decides mm or m from its extent. A prepared-model file (--prepare's)
+ * is read as it is, with the mesh it holds. \throws BadInput for an unreadable file, an
+ * unusable mesh, or a prepared file that does not fit (corrupt, other units or parameters). */
 Model loadModel(const std::string& path, Units requested, bool quiet,
                 const std::string& cache_folder);
 
@@ -115,6 +125,10 @@ std::string caption(const Model& model, const Run& run);
 
 /** The posed model in the scene's units, or an empty mesh when nothing was found. */
 pcl::PolygonMesh posedModel(const Scene& scene, const Model& model, const Run& run);
+
+/** What reports call the models of \a paths: each file's name, with its place when two files
+ * share one. */
+std::vector<std::string> modelNames(const std::vector<std::string>& paths);
 
 /** What renderPng and the viewer draw: the scene, the posed model, the caption. */
 RenderInput renderInput(const Scene& scene, const ToolOptions& options,

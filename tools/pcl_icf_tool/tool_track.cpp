@@ -186,23 +186,25 @@ class TrackStream {
   std::size_t frames() const { return frames_; }
 
  private:
-  /** The frame with every pose drawn (one mesh, the tool's model colour). */
+  /** The frame with every pose drawn, each object in its colour (the first in the tool's
+   * model colour), a legend line per object when there are several. */
   void writePicture(std::size_t f, const Scene& scene, const trk::TrackedFrame& out,
                     const std::string& text) const {
-    pcl::PolygonMesh posed;
+    RenderInput in = renderInput(scene, options_, {}, text);
+    const std::vector<std::string> names = modelNames(options_.models);
     for (std::size_t k = 0; k < out.objects.size(); ++k) {
+      const Eigen::Vector3f colour = k == 0 ? options_.render_colour : objectColour(k);
+      if (models_.size() > 1)
+        in.legend.push_back({names[k] + (out.objects[k].pose ? "" : ": not found"), colour});
       if (!out.objects[k].pose)
         continue;
       Eigen::Matrix4d pose = out.objects[k].pose->matrix().cast<double>();
       pose.topRightCorner<3, 1>() /= scene.metres_per_unit;
-      const pcl::PolygonMesh one =
-          posedMesh(models_[k].mesh, pose, models_[k].metres_per_unit / scene.metres_per_unit);
-      if (posed.polygons.empty())
-        posed = one;
-      else
-        pcl::PolygonMesh::concatenate(posed, one);
+      in.models.push_back(
+          {posedMesh(models_[k].mesh, pose, models_[k].metres_per_unit / scene.metres_per_unit),
+           colour});
     }
-    writePng(picturePath(f, scene.path), renderInput(scene, options_, posed, text), options_.force);
+    writePng(picturePath(f, scene.path), in, options_.force);
   }
 
   const ToolOptions& options_;

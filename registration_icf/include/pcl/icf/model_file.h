@@ -10,10 +10,12 @@
  * that does it by itself.
  *
  * A file holds a format version, the preparation's key (preparationKey: the mesh's content,
- * the units and every parameter the preparation depends on), the field and the table, and a
- * CRC-32 of all of it. Reading checks each: a truncated, corrupt, foreign-version or
- * mismatched file throws ModelFileError, never gives a model. The faces, the exact index and
- * the surface samples are rebuilt from the mesh on reading (they take milliseconds). */
+ * the units and every parameter the preparation depends on), the mesh itself, a CRC-32 of all
+ * that, the field and the table, and a CRC-32 of the whole: it stands alone, a model without
+ * its mesh file.
+ * Reading checks each: a truncated, corrupt, foreign-version or mismatched file throws
+ * ModelFileError, never gives a model. The faces, the exact index and the surface samples are
+ * rebuilt from the mesh on reading (they take milliseconds). */
 
 #include <pcl/PolygonMesh.h>
 #include <pcl/icf/icf_model.h>
@@ -32,7 +34,7 @@ class ModelFileError : public std::runtime_error {
 };
 
 /** The format version a file is written in; a file of another is refused. */
-constexpr unsigned kModelFileVersion = 1;
+constexpr unsigned kModelFileVersion = 2;
 
 /** \brief 16 hex digits that change with anything the preparation of \a mesh under \a params
  * depends on: the mesh's vertices, faces and field layout, the units (params.mesh.scale), the
@@ -40,11 +42,12 @@ constexpr unsigned kModelFileVersion = 1;
  * version. Not the thread count (the preparation does not depend on it). */
 std::string preparationKey(const pcl::PolygonMesh& mesh, const IcfModelParams& params);
 
-/** \brief Writes \a model, prepared from a mesh whose preparationKey is \a key, to \a path
- * atomically: into a temporary file beside it, then renamed, so a concurrent reader sees the
- * old file or the new one, never half of one. \throws ModelFileError when it cannot be
+/** \brief Writes \a model, prepared from \a mesh whose preparationKey is \a key, to \a path
+ * with the mesh, atomically: into a temporary file beside it, then renamed, so a concurrent reader
+ * sees the old file or the new one, never half of one. \throws ModelFileError when it cannot be
  * written. */
-void writeModelFile(const IcfModel& model, const std::string& key, const std::string& path);
+void writeModelFile(const IcfModel& model, const pcl::PolygonMesh& mesh, const std::string& key,
+                    const std::string& path);
 
 /** \brief The model of \a mesh under \a params read from \a path, which must have been written
  * for them (its key is preparationKey(mesh, params)). The same model IcfModel::build gives.
@@ -52,6 +55,16 @@ void writeModelFile(const IcfModel& model, const std::string& key, const std::st
  * a model. */
 IcfModel::ConstPtr readModelFile(const std::string& path, const pcl::PolygonMesh& mesh,
                                  const IcfModelParams& params);
+
+/** \brief Whether \a path begins as a prepared-model file does (its magic bytes); says nothing
+ * of whether the rest is sound. */
+bool isModelFile(const std::string& path);
+
+/** \brief The mesh a prepared-model file was prepared from, in its own units: what to give
+ * readModelFile with the parameters the model is wanted under. Reads the file only up to the
+ * mesh. \throws ModelFileError for a file that cannot be read or whose beginning is not sound
+ * (magic, version, the checksum after the mesh). */
+pcl::PolygonMesh readModelFileMesh(const std::string& path);
 
 /** \brief The cache folder by default: $XDG_CACHE_HOME/pcl_icf, else $HOME/.cache/pcl_icf, else
  * "" (no cache). */

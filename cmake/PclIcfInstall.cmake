@@ -1,7 +1,7 @@
 include(CMakePackageConfigHelpers)
 include(GNUInstallDirs)
 
-install(TARGETS pcl_icf_registration pcl_icf_io pcl_icf_segmentation pcl_icf_localization pcl_icf_tracking pcl_icf_pcl_deps
+install(TARGETS pcl_icf_registration pcl_icf_io pcl_icf_segmentation pcl_icf_localization pcl_icf_tracking pcl_icf_evaluation pcl_icf_pcl_deps
   EXPORT pcl_icfTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}

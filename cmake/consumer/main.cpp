@@ -1,6 +1,8 @@
-// Builds a one-triangle mesh and asks the installed library for a closest face.
+// Builds a one-triangle mesh and asks the installed library for a closest face, and the
+// evaluation library for the MSSD of a known shift.
 #include <pcl/conversions.h>
 #include <pcl/icf/closest_face_query.h>
+#include <pcl/icf/evaluation/bop_pose_errors.h>
 #include <pcl/point_types.h>
 #include <iostream>
 int main() {
@@ -13,5 +15,12 @@ int main() {
   const auto faces = pcl::icf::FaceMesh::build(mesh);
   const auto hit = pcl::icf::makeClosestFaceIndex(faces)->closestFace({0.2f, 0.2f, 1.f});
   std::cout << "consumer: distance " << hit.distance << " to face " << hit.face << "\n";
-  return hit.face == 0 && std::abs(hit.distance - 1.f) < 1e-6f ? 0 : 1;
+  Eigen::Isometry3d shifted = Eigen::Isometry3d::Identity();
+  shifted.translation() = Eigen::Vector3d(3, 4, 0);
+  const double mssd =
+      pcl::icf::evaluation::mssd(shifted, Eigen::Isometry3d::Identity(), {{0, 0, 0}, {1, 0, 0}},
+                                 {Eigen::Isometry3d::Identity()});
+  std::cout << "consumer: MSSD of a (3, 4, 0) shift " << mssd << "\n";
+  return hit.face == 0 && std::abs(hit.distance - 1.f) < 1e-6f && std::abs(mssd - 5.0) < 1e-12 ? 0
+                                                                                               : 1;
 }

@@ -633,6 +633,31 @@ TEST_F(Tool, PreparedModelFileStandsInForTheMesh) {
             2);
 }
 
+// A BOP depth PNG as SCENE, with its camera: the pose the frame's PCD (made from the same PNG)
+// gives; without its camera, or the camera's options with a PCD, exit 2.
+TEST_F(Tool, DepthPngSceneIsTheFramesPcd) {
+  PCL_ICF_REQUIRE_SHARED(bop, "bop-ycbv/test/000000");
+  PCL_ICF_REQUIRE_SHARED(pcd, "ycbv-video0000/scenes/ycbv0000_000002.pcd");
+  PCL_ICF_REQUIRE_SHARED(mesh, "bop-ycbv/models/obj_000008.ply");
+  const std::string png = quote(bop + "/depth/000002.png");
+  const std::string camera = " --intrinsics 1066.778,1067.487,312.9869,241.3109 --depth-scale 0.1";
+  ASSERT_EQ(run(png + " " + quote(mesh) + camera + " --rgb " + quote(bop + "/rgb/000002.png") +
+                " -q --json " + quote(path("png.json")))
+                .code,
+            0);
+  ASSERT_EQ(run(quote(pcd) + " " + quote(mesh) + " -q --json " + quote(path("pcd.json"))).code, 0);
+  const json a = json::parse(slurp(path("png.json"))), b = json::parse(slurp(path("pcd.json")));
+  EXPECT_EQ(a["best"]["pose"], b["best"]["pose"]);
+  EXPECT_EQ(a["scene_info"]["format"], "png");
+
+  const Result bare = run(png + " " + quote(mesh));
+  EXPECT_EQ(bare.code, 2);
+  EXPECT_NE(bare.err.find("--intrinsics"), std::string::npos) << bare.err;
+  EXPECT_EQ(run(quote(pcd) + " " + quote(mesh) + camera).code, 2);
+  EXPECT_EQ(run(png + " " + quote(mesh) + " --intrinsics 1,2,3 --depth-scale 0.1").code, 2);
+  EXPECT_EQ(run(png + " " + quote(mesh) + " --intrinsics 1,1,1,1 --depth-scale 0").code, 2);
+}
+
 TEST_F(Tool, HelpPrintsUsage) {
   const Result r = run("-h");
   EXPECT_EQ(r.code, 0);

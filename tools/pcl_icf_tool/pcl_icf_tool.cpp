@@ -58,7 +58,7 @@ void checkSingleOutputs(const ToolOptions& options) {
 int runSingle(const ToolOptions& options) {
   Timing timing;
   const bool quiet = options.quiet;
-  const Scene scene = loadScene(options.scene, options.units, quiet);
+  const Scene scene = loadScene(options.scene, options.units, quiet, options.depth_png);
   timing.load_scene = scene.load_ms;
   const Model model = loadModel(options.model, options.model_units, quiet, cacheFolder(options));
   timing.load_model = model.load_ms;

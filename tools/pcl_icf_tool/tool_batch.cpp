@@ -164,7 +164,7 @@ SceneOutcome runScene(std::size_t i, const std::string& scene_path, const Model&
   timing.load_model = model.load_ms;
   timing.build_model = model.build_ms;
   try {
-    const Scene scene = loadScene(scene_path, options.units, true);
+    const Scene scene = loadScene(scene_path, options.units, true, options.depth_png);
     timing.load_scene = scene.load_ms;
     const Run run = localize(scene, model, options, true);
     o.code = exitCode(run.loc);

@@ -137,7 +137,7 @@ RenderInput framePicture(const Scene& scene, const std::vector<Model>& models,
 int runMany(const ToolOptions& options) {
   const auto start = Clock::now();
   const bool quiet = options.quiet;
-  const Scene scene = loadScene(options.scene, options.units, quiet);
+  const Scene scene = loadScene(options.scene, options.units, quiet, options.depth_png);
   std::vector<Model> models;
   for (const auto& path : options.models)
     models.push_back(loadModel(path, options.model_units, quiet, cacheFolder(options)));

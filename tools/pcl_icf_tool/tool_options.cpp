@@ -103,6 +103,19 @@ Eigen::Isometry3d parseCameraPose(const std::string& option, const std::string& 
   return pose;
 }
 
+/** "FX,FY,CX,CY": a pinhole camera's focal lengths (> 0) and principal point, pixels. */
+Eigen::Vector4d parseIntrinsics(const std::string& option, const std::string& text) {
+  std::vector<double> v;
+  std::stringstream in(text);
+  std::string part;
+  while (std::getline(in, part, ','))
+    v.push_back(parseNumber(option, part));
+  if (v.size() != 4 || !(v[0] > 0.0 && v[1] > 0.0))
+    throw UsageError(option + ": '" + text +
+                     "' is not FX,FY,CX,CY (focal lengths > 0 and the principal point, pixels)");
+  return {v[0], v[1], v[2], v[3]};
+}
+
 pcl::icf::SearchStrategy parseStrategy(const std::string& option, const std::string& text) {
   try {
     return pcl::icf::parseSearchStrategy(text);
@@ -212,6 +225,8 @@ void checkMode(ToolOptions& o, const std::vector<std::string>& positional, bool 
       throw UsageError("--prepare MODEL -o FILE takes no scene, other model or output");
     return;
   }
+  if (!o.depth_png.rgb.empty() && (!o.track.empty() || !o.batch.empty()))
+    throw UsageError("--rgb names one scene's colour image: not for --batch or --track");
   if (!o.models_list.empty() && (!o.track.empty() || !o.batch.empty()))
     throw UsageError(
         "--models is for one scene; --track and --batch take their MODELs as "
@@ -290,6 +305,12 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
       o.model_units = parseUnits(a, args.value(a));
     else if (a == "--camera")
       o.camera = parseCameraPose(a, args.value(a));
+    else if (a == "--intrinsics")
+      o.depth_png.intrinsics = parseIntrinsics(a, args.value(a));
+    else if (a == "--depth-scale")
+      o.depth_png.depth_scale = parsePositive(a, args.value(a));
+    else if (a == "--rgb")
+      o.depth_png.rgb = args.value(a);
     else if (a == "--json")
       o.json = args.value(a);
     else if (a == "--output")
@@ -378,7 +399,8 @@ std::string usageText(const std::string& program) {
     << "       or: " << program << " SCENE MODEL MODEL... | --models LIST <options>\n"
     << "       or: " << program << " --batch SCENES MODEL --out-dir DIR <options>\n"
     << "       or: " << program << " --prepare MODEL -o FILE.icfmodel [--model-units U]\n"
-    << "  SCENE  a point cloud: .pcd, .ply, or .xyz/.asc (one \"x y z\" per line)\n"
+    << "  SCENE  a point cloud: .pcd, .ply, or .xyz/.asc (one \"x y z\" per line), or a\n"
+    << "         16-bit depth image .png (BOP's), with --intrinsics and --depth-scale\n"
     << "  MODEL  the object's mesh: .ply, .obj, .stl or .vtk, or a prepared model\n"
     << "         (.icfmodel, see --prepare); with several, every one is searched for in\n"
     << "         one pass and each scene point explains one pose at most\n"
@@ -395,6 +417,10 @@ std::string usageText(const std::string& program) {
     << "                               prepared-model cache (default: "
     << "$XDG_CACHE_HOME/pcl_icf,\n"
     << "                               else ~/.cache/pcl_icf)\n"
+    << "    --intrinsics FX,FY,CX,CY = a depth PNG SCENE's camera (pixels; BOP's cam_K)\n"
+    << "    --depth-scale S          = a depth PNG SCENE's unit in millimetres (BOP's\n"
+    << "                               depth_scale: 0.1 for YCB-Video, 1 for most)\n"
+    << "    --rgb FILE.png           = a depth PNG SCENE's colour image (same size)\n"
     << "    --units m|mm|auto        = the scene's units (default: auto, millimetres when the\n"
     << "                               scene spans more than 20 units)\n"
     << "    --model-units m|mm|auto  = the mesh's units (default: auto, millimetres when the\n"

@@ -33,6 +33,14 @@ const char* unitsName(Units units);
 /** Metres per unit: 1 or 0.001. */
 double metresPerUnit(Units units);
 
+/** \brief How a depth PNG SCENE becomes a cloud (BOP's depth images): --intrinsics,
+ * --depth-scale, --rgb. */
+struct DepthPngOptions {
+  std::optional<Eigen::Vector4d> intrinsics;  ///< fx, fy, cx, cy (pixels)
+  double depth_scale = 0.0;                   ///< millimetres per PNG unit (0: not given)
+  std::string rgb;                            ///< the colour PNG of the same size ("" none)
+};
+
 /** \brief Everything pcl_icf_tool was asked to do. */
 struct ToolOptions {
   bool help = false;
@@ -63,6 +71,7 @@ struct ToolOptions {
   /** --camera: the camera's pose in the scene's frame, translation in the scene's units
    * (unset: the file's VIEWPOINT, the camera's frame by default). */
   std::optional<Eigen::Isometry3d> camera;
+  DepthPngOptions depth_png;        ///< --intrinsics, --depth-scale, --rgb
   Units units = Units::Auto;        ///< --units
   Units model_units = Units::Auto;  ///< --model-units
 

@@ -10,10 +10,12 @@
 #include "tool_output.h"
 
 #include <pcl/icf/face_mesh.h>
+#include <pcl/icf/io/bop_dataset.h>
 #include <pcl/icf/io/mesh_io.h>
 #include <pcl/icf/segmentation/finite_indices.h>
 #include <pcl/icf/segmentation/scene_extent.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -145,17 +147,52 @@ int runPrepare(const ToolOptions& options) {
   return 0;
 }
 
-Scene loadScene(const std::string& path, Units requested, bool quiet) {
+namespace {
+
+/** A depth PNG SCENE as a cloud in metres (readBopDepthImage) with its file's information. */
+Cloud::Ptr readDepthPng(const std::string& path, const DepthPngOptions& png,
+                        pcl::icf::io::SceneFileInfo& info) {
+  if (!png.intrinsics || !(png.depth_scale > 0.0))
+    throw BadInput(path +
+                   ": a depth image needs its camera: --intrinsics FX,FY,CX,CY and "
+                   "--depth-scale S (millimetres per unit)");
+  pcl::icf::io::BopCamera camera;
+  const Eigen::Vector4d& k = *png.intrinsics;
+  camera.K << k[0], 0, k[2], 0, k[1], k[3], 0, 0, 1;
+  camera.depth_scale = png.depth_scale;
+  Cloud::Ptr cloud = pcl::icf::io::readBopDepthImage(path, camera, png.rgb);
+  info.format = "png";
+  info.has_colour = !png.rgb.empty();
+  info.organized = true;
+  info.points = cloud->size();
+  info.finite_points = 0;
+  for (const auto& p : *cloud)
+    info.finite_points += std::isfinite(p.z);
+  if (info.finite_points == 0)
+    throw BadInput(path + ": the depth image holds no depth");
+  return cloud;
+}
+
+}  // namespace
+
+Scene loadScene(const std::string& path, Units requested, bool quiet, const DepthPngOptions& png) {
   Scene s;
   s.path = path;
+  const bool depth_image = pcl::icf::io::fileExtension(path) == "png";
+  if (!depth_image && (png.intrinsics || png.depth_scale > 0.0 || !png.rgb.empty()))
+    throw BadInput(
+        "--intrinsics, --depth-scale and --rgb are for a depth image SCENE (.png), "
+        "not " +
+        path);
   const auto start = Clock::now();
   try {
-    s.input = pcl::icf::io::loadSceneCloud(path, &s.info);
+    s.input =
+        depth_image ? readDepthPng(path, png, s.info) : pcl::icf::io::loadSceneCloud(path, &s.info);
   } catch (const pcl::icf::io::FileError& e) {
     throw BadInput(e.what());
   }
   s.load_ms = msSince(start);
-  s.units = requested;
+  s.units = depth_image ? Units::Metres : requested;
   if (requested == Units::Auto) {
     // Without stray points: one corrupt return must not make a metre scene look like mm.
     const double extent = seg::robustExtent(*s.input, seg::finiteIndices(*s.input));

@@ -87,8 +87,10 @@ struct Scene {
   double load_ms = 0.0;
 };
 
-/** Reads the scene; --units auto decides mm or m from its robust extent. \throws BadInput. */
-Scene loadScene(const std::string& path, Units requested, bool quiet);
+/** Reads the scene; --units auto decides mm or m from its robust extent. A .png SCENE is a
+ * depth image made a cloud in metres with \a png's camera (required). \throws BadInput. */
+Scene loadScene(const std::string& path, Units requested, bool quiet,
+                const DepthPngOptions& png = {});
 
 /** The localizer's result on one scene and its wall time. */
 struct Run {

@@ -111,7 +111,7 @@ class TrackStream {
     std::string error;
     std::optional<Scene> scene;
     try {
-      scene = loadScene(path, options_.units, true);
+      scene = loadScene(path, options_.units, true, options_.depth_png);
       if (shape_)
         error = mismatch(*scene, *shape_);
     } catch (const BadInput& e) {

@@ -77,14 +77,20 @@ Eigen::Vector3f parseColour(const std::string& option, const std::string& text) 
   return c;
 }
 
-/** "X,Y,Z" or "X,Y,Z,QW,QX,QY,QZ": the camera's position (scene units) and orientation in the
- * scene's frame; the quaternion must be a unit one (to 1e-3). */
-Eigen::Isometry3d parseCameraPose(const std::string& option, const std::string& text) {
+/** Comma-separated numbers. */
+std::vector<double> parseNumbers(const std::string& option, const std::string& text) {
   std::vector<double> v;
   std::stringstream in(text);
   std::string part;
   while (std::getline(in, part, ','))
     v.push_back(parseNumber(option, part));
+  return v;
+}
+
+/** "X,Y,Z" or "X,Y,Z,QW,QX,QY,QZ": the camera's position (scene units) and orientation in the
+ * scene's frame; the quaternion must be a unit one (to 1e-3). */
+Eigen::Isometry3d parseCameraPose(const std::string& option, const std::string& text) {
+  const std::vector<double> v = parseNumbers(option, text);
   if (v.size() != 3 && v.size() != 7)
     throw UsageError(option + ": '" + text +
                      "' is not X,Y,Z or X,Y,Z,QW,QX,QY,QZ (the camera's position and "
@@ -105,11 +111,7 @@ Eigen::Isometry3d parseCameraPose(const std::string& option, const std::string& 
 
 /** "FX,FY,CX,CY": a pinhole camera's focal lengths (> 0) and principal point, pixels. */
 Eigen::Vector4d parseIntrinsics(const std::string& option, const std::string& text) {
-  std::vector<double> v;
-  std::stringstream in(text);
-  std::string part;
-  while (std::getline(in, part, ','))
-    v.push_back(parseNumber(option, part));
+  const std::vector<double> v = parseNumbers(option, text);
   if (v.size() != 4 || !(v[0] > 0.0 && v[1] > 0.0))
     throw UsageError(option + ": '" + text +
                      "' is not FX,FY,CX,CY (focal lengths > 0 and the principal point, pixels)");

@@ -70,6 +70,7 @@
 // --out and, with gnuplot, NAME_mean.png and NAME_std.png in --plots (bar charts per group and
 // method like the thesis's figures 7.5 and 7.6). Progress goes to stderr
 // when it is a terminal. Exit codes: 0 done, 2 bad usage, manifest or data.
+#include "bench_bop.h"
 #include "bench_manifest.h"
 #include "bench_methods.h"
 #ifdef PCL_ICF_HAVE_PEERS
@@ -696,6 +697,11 @@ std::vector<std::string> groupsWithErrors(const std::vector<std::string>& groups
 }  // namespace
 
 int main(int argc, char** argv) {
+  for (int a = 1; a < argc; ++a)
+    if (std::string(argv[a]) == "--bop") {
+      pcl::console::setVerbosityLevel(pcl::console::L_ERROR);
+      return pcl_icf_bench::runBop(argc, argv);
+    }
   Options o;
   try {
     if (!parseOptions(argc, argv, o))

@@ -9,7 +9,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   clang clang-format libclang-rt-14-dev libomp-14-dev
   xvfb xauth gnuplot-nox
-  nlohmann-json3-dev zlib1g-dev
+  nlohmann-json3-dev zlib1g-dev libpng-dev
   python3-dev python3-pybind11 python3-numpy python3-pytest
   libopen3d-dev libopencv-dev libopencv-contrib-dev
 )

@@ -25,6 +25,14 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+void checkPointsAndSymmetries(const char* error, const std::vector<Eigen::Vector3d>& points,
+                              const std::vector<Eigen::Isometry3d>& symmetries) {
+  if (points.empty() || symmetries.empty())
+    throw std::invalid_argument(std::string(error) +
+                                ": needs the model's points and at least the identity among its "
+                                "symmetries");
+}
+
 void checkSameSize(const DepthMap& a, const DepthMap& b, const char* what) {
   if (a.width != b.width || a.height != b.height ||
       a.z.size() != static_cast<std::size_t>(a.width) * static_cast<std::size_t>(a.height) ||
@@ -69,6 +77,7 @@ std::vector<Eigen::Isometry3d> symmetryTransformations(
 double mssd(const Eigen::Isometry3d& est, const Eigen::Isometry3d& gt,
             const std::vector<Eigen::Vector3d>& points,
             const std::vector<Eigen::Isometry3d>& symmetries) {
+  checkPointsAndSymmetries("mssd", points, symmetries);
   double best = std::numeric_limits<double>::infinity();
   for (const auto& s : symmetries) {
     const Eigen::Isometry3d gt_s = gt * s;
@@ -83,6 +92,7 @@ double mssd(const Eigen::Isometry3d& est, const Eigen::Isometry3d& gt,
 double mspd(const Eigen::Isometry3d& est, const Eigen::Isometry3d& gt, const Eigen::Matrix3d& K,
             const std::vector<Eigen::Vector3d>& points,
             const std::vector<Eigen::Isometry3d>& symmetries) {
+  checkPointsAndSymmetries("mspd", points, symmetries);
   const auto project = [&](const Eigen::Vector3d& p) -> Eigen::Vector2d {
     return (K * p).hnormalized();
   };
@@ -98,6 +108,12 @@ double mspd(const Eigen::Isometry3d& est, const Eigen::Isometry3d& gt, const Eig
 }
 
 DepthMap distanceImage(const DepthMap& depth, const Eigen::Matrix3d& K) {
+  if (depth.width < 0 || depth.height < 0 ||
+      depth.z.size() !=
+          static_cast<std::size_t>(depth.width) * static_cast<std::size_t>(depth.height))
+    throw std::invalid_argument("distanceImage: " + std::to_string(depth.z.size()) +
+                                " depths for a " + std::to_string(depth.width) + " x " +
+                                std::to_string(depth.height) + " image");
   DepthMap d = depth;
   for (int v = 0; v < depth.height; ++v)
     for (int u = 0; u < depth.width; ++u) {

@@ -2,23 +2,24 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
-// BOP datasets: the JSON files through nlohmann::json, the PNGs through VTK's reader (PCL's
-// own PNG support is disabled in Debian's build). What is ours is the checking: every key
-// looked up by name, every value's type and size checked, the file and key named in the error.
+// BOP datasets: the JSON files through nlohmann::json, the PNGs through libpng (PCL's own PNG
+// support is disabled in Debian's build; VTK's reader crashes on a truncated file). What is ours is
+// the checking: every key looked up by name, every value's type and size checked, the file and key
+// named in the error.
 #include <pcl/icf/io/bop_dataset.h>
 
 #include <nlohmann/json.hpp>
 
-#include <vtkDataArray.h>
-#include <vtkImageData.h>
-#include <vtkNew.h>
-#include <vtkPNGReader.h>
-#include <vtkPointData.h>
+#include <png.h>
 
 #include <cmath>
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 
 namespace pcl {
 namespace icf {
@@ -153,33 +154,91 @@ struct PngImage {
   std::vector<std::uint16_t> values;  ///< channels per pixel, row-major from the top
 };
 
+/** What libpng decodes: rows of bytes, 16-bit samples in the host's order. */
+struct PngDecode {
+  std::vector<unsigned char> data;
+  std::vector<png_bytep> rows;
+  png_uint_32 width = 0, height = 0;
+  int channels = 0, bit_depth = 0;
+};
+
+[[noreturn]] void pngFailed(png_structp png, png_const_charp) {
+  png_longjmp(png, 1);
+}
+void pngWarned(png_structp, png_const_charp) {}
+
+/** Decodes \a file into \a out; false for any libpng error (a truncated or corrupt file). The
+ * classic API, as libpng documents it: its errors come back through setjmp into this frame,
+ * which holds nothing that needs destroying beyond what it destroys itself. */
+bool decodePng(std::FILE* file, PngDecode* out) {
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, pngFailed, pngWarned);
+  if (!png)
+    return false;
+  png_infop info = png_create_info_struct(png);
+  if (!info) {
+    png_destroy_read_struct(&png, nullptr, nullptr);
+    return false;
+  }
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    return false;
+  }
+  png_init_io(png, file);
+  png_read_info(png, info);
+  const int colour = png_get_color_type(png, info);
+  if (colour == PNG_COLOR_TYPE_PALETTE)
+    png_set_palette_to_rgb(png);
+  if (colour == PNG_COLOR_TYPE_GRAY && png_get_bit_depth(png, info) < 8)
+    png_set_expand_gray_1_2_4_to_8(png);
+  if (png_get_bit_depth(png, info) == 16)
+    png_set_swap(png);  // PNG stores 16-bit samples big-endian
+  png_read_update_info(png, info);
+  out->width = png_get_image_width(png, info);
+  out->height = png_get_image_height(png, info);
+  out->channels = png_get_channels(png, info);
+  out->bit_depth = png_get_bit_depth(png, info);
+  const png_size_t row_bytes = png_get_rowbytes(png, info);
+  if (out->width == 0 || out->height == 0 || out->width > 65536 || out->height > 65536) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    return false;
+  }
+  out->data.resize(row_bytes * out->height);
+  out->rows.resize(out->height);
+  for (png_uint_32 v = 0; v < out->height; ++v)
+    out->rows[v] = out->data.data() + v * row_bytes;
+  png_read_image(png, out->rows.data());
+  png_read_end(png, nullptr);
+  png_destroy_read_struct(&png, &info, nullptr);
+  return true;
+}
+
 PngImage readPng(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path))
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
+                                                       &std::fclose);
+  if (!file || !std::filesystem::is_regular_file(path))
     throw FileError(path + ": cannot be read");
-  vtkNew<vtkPNGReader> reader;
-  if (!reader->CanReadFile(path.c_str()))
+  unsigned char signature[8] = {};
+  if (std::fread(signature, 1, 8, file.get()) != 8 || png_sig_cmp(signature, 0, 8) != 0)
     throw FileError(path + ": not a PNG image");
-  reader->SetFileName(path.c_str());
-  reader->Update();
-  vtkImageData* image = reader->GetOutput();
-  int dims[3] = {0, 0, 0};
-  image->GetDimensions(dims);
-  vtkDataArray* scalars = image->GetPointData() ? image->GetPointData()->GetScalars() : nullptr;
-  if (!scalars || dims[0] <= 0 || dims[1] <= 0)
-    throw FileError(path + ": cannot be decoded");
+  std::rewind(file.get());
+  PngDecode decoded;
+  if (!decodePng(file.get(), &decoded))
+    throw FileError(path + ": cannot be decoded (truncated or corrupt)");
   PngImage png;
-  png.width = dims[0];
-  png.height = dims[1];
-  png.channels = scalars->GetNumberOfComponents();
-  png.sixteen_bit = image->GetScalarType() == VTK_UNSIGNED_SHORT;
-  png.values.resize(static_cast<std::size_t>(png.width) * png.height * png.channels);
-  // VTK's rows run from the bottom of the picture.
+  png.width = static_cast<int>(decoded.width);
+  png.height = static_cast<int>(decoded.height);
+  png.channels = decoded.channels;
+  png.sixteen_bit = decoded.bit_depth == 16;
+  const std::size_t samples = static_cast<std::size_t>(png.width) * png.channels;
+  png.values.resize(samples * static_cast<std::size_t>(png.height));
   for (int v = 0; v < png.height; ++v)
-    for (int u = 0; u < png.width; ++u)
-      for (int c = 0; c < png.channels; ++c)
-        png.values[(static_cast<std::size_t>(v) * png.width + u) * png.channels + c] =
-            static_cast<std::uint16_t>(scalars->GetComponent(
-                static_cast<vtkIdType>(png.height - 1 - v) * png.width + u, c));
+    for (std::size_t k = 0; k < samples; ++k) {
+      const unsigned char* row = decoded.rows[static_cast<std::size_t>(v)];
+      std::uint16_t value = row[k];
+      if (png.sixteen_bit)
+        std::memcpy(&value, row + 2 * k, sizeof(value));
+      png.values[static_cast<std::size_t>(v) * samples + k] = value;
+    }
   return png;
 }
 

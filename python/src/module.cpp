@@ -89,8 +89,10 @@ std::shared_ptr<Model> buildModel(pcl::PolygonMesh mesh, const std::string& unit
     py::gil_scoped_release release;
     cached = pcl::icf::buildModelCached(model->mesh, modelParams(model->units), cache_folder);
   }
-  if (!cached.warning.empty())
-    PyErr_WarnEx(PyExc_RuntimeWarning, ("prepared-model cache: " + cached.warning).c_str(), 1);
+  if (!cached.warning.empty() &&
+      PyErr_WarnEx(PyExc_RuntimeWarning, ("prepared-model cache: " + cached.warning).c_str(), 1) <
+          0)
+    throw py::error_already_set();  // warnings turned into errors
   model->icf = cached.model;
   model->source = cached.from_cache ? "cache" : "built";
   return model;

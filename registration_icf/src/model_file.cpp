@@ -9,6 +9,8 @@
 // versions, which std::hash and boost::hash are not).
 #include <pcl/icf/model_file.h>
 
+#include <pcl/common/io.h>
+
 #include <zlib.h>
 
 #include <unistd.h>
@@ -238,8 +240,15 @@ pcl::PolygonMesh getMesh(Reader& r) {
     c.fields.push_back(f);
   }
   c.data = r.array<std::uint8_t>();
-  if (static_cast<std::uint64_t>(c.width) * c.height * c.point_step != c.data.size())
+  // Sizes bounded first, so that their products fit 64 bits.
+  if (c.point_step > (1u << 16) || c.height > (1u << 16) ||
+      static_cast<std::uint64_t>(c.width) * c.height * c.point_step != c.data.size())
     r.fail("the mesh's vertex bytes do not match its size (corrupt)");
+  for (const auto& f : c.fields)
+    if (static_cast<std::uint64_t>(f.offset) +
+            pcl::getFieldSize(f.datatype) * std::max(f.count, 1u) >
+        c.point_step)
+      r.fail("a vertex field lies outside its vertex (corrupt)");
   const std::vector<std::uint64_t> sizes = r.array<std::uint64_t>();
   const std::vector<pcl::index_t> indices = r.array<pcl::index_t>();
   std::size_t next = 0;
@@ -304,11 +313,14 @@ struct ModelFileAccess {
     f->nodes_ = r.array<float>();
     f->distances_ = r.array<float>();
     f->medial_ = r.array<std::uint8_t>();
-    const double nodes = static_cast<double>(f->dims_.x()) * f->dims_.y() * f->dims_.z();
-    if (!(f->dims_.minCoeff() >= 2 && f->cell_ > 0.f && std::isfinite(f->cell_) &&
-          f->nodes_.size() == 3 * static_cast<std::size_t>(nodes) &&
-          f->distances_.size() == static_cast<std::size_t>(nodes) &&
-          f->medial_.size() == static_cast<std::size_t>(nodes)))
+    // Each side at most 2^16 nodes: their product fits 64 bits whatever the file says.
+    if (!(f->dims_.minCoeff() >= 2 && f->dims_.maxCoeff() <= (1 << 16)))
+      r.fail("the closest-point field's sizes do not agree (corrupt)");
+    const std::uint64_t nodes = static_cast<std::uint64_t>(f->dims_.x()) *
+                                static_cast<std::uint64_t>(f->dims_.y()) *
+                                static_cast<std::uint64_t>(f->dims_.z());
+    if (!(f->cell_ > 0.f && std::isfinite(f->cell_) && f->nodes_.size() == 3 * nodes &&
+          f->distances_.size() == nodes && f->medial_.size() == nodes))
       r.fail("the closest-point field's sizes do not agree (corrupt)");
     f->inv_cell_ = 1.f / f->cell_;
     return f;
@@ -321,7 +333,7 @@ struct ModelFileAccess {
     w.array(m.entries_);
     w.array(m.weights_);
   }
-  static std::unique_ptr<PointPairModel> readPairs(Reader& r) {
+  static std::unique_ptr<PointPairModel> readPairs(Reader& r, const PointPairModelParams& params) {
     auto m = std::make_unique<PointPairModel>();
     m->points_ = getPoints(r);
     m->normals_ = getPoints(r);
@@ -335,11 +347,17 @@ struct ModelFileAccess {
     m->entries_ = r.array<PointPairModel::Entry>();
     m->weights_ = r.array<float>();
     const bool empty = m->points_.empty();
-    const double bins = static_cast<double>(m->distance_bins_) * m->feature_bins_ *
-                        m->feature_bins_ * m->feature_bins_;
+    // The table's shape is the parameters' (PointPairModel::build): the voting indexes by it.
+    if (!empty &&
+        !(m->angle_bins_ == params.angle_bins && m->feature_bins_ == (params.angle_bins + 1) / 2 &&
+          m->distance_bins_ >= 1 && m->distance_bins_ <= (1 << 20) && m->step_ > 0.f &&
+          std::isfinite(m->step_) && m->diameter_ > 0.f && std::isfinite(m->diameter_)))
+      r.fail("the point pair table's shape is not its parameters' (corrupt)");
+    const std::uint64_t bins = empty ? 0
+                                     : static_cast<std::uint64_t>(m->distance_bins_) *
+                                           m->feature_bins_ * m->feature_bins_ * m->feature_bins_;
     const bool sized = m->normals_.size() == m->points_.size() &&
-                       (empty || (m->offsets_.size() == static_cast<std::size_t>(bins) + 1 &&
-                                  m->weights_.size() == static_cast<std::size_t>(bins) &&
+                       (empty || (m->offsets_.size() == bins + 1 && m->weights_.size() == bins &&
                                   m->offsets_.back() == m->entries_.size()));
     if (!sized)
       r.fail("the point pair table's sizes do not agree (corrupt)");
@@ -447,7 +465,7 @@ IcfModel::ConstPtr readModelFileWithKey(const std::string& path, const pcl::Poly
     r.fail("prepared from another mesh or other parameters (key " + file.key + ", wanted " + want +
            ")");
   auto field = ModelFileAccess::readField(r);
-  auto pairs = ModelFileAccess::readPairs(r);
+  auto pairs = ModelFileAccess::readPairs(r, params.point_pairs);
   r.checksum();
   if (!r.done())
     r.fail("holds more than a model (corrupt)");

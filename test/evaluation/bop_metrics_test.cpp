@@ -80,6 +80,9 @@ TEST(BopErrors, MssdOfTheTruthASymmetryAndAShift) {
   Eigen::Isometry3d shifted = gt;
   shifted.translation() += Eigen::Vector3d(3, 4, 0);
   EXPECT_NEAR(mssd(shifted, gt, corners, brick), 5.0, 1e-9);
+  // No points would make every pose right; no symmetries (not even the identity), none.
+  EXPECT_THROW(mssd(shifted, gt, {}, brick), std::invalid_argument);
+  EXPECT_THROW(mssd(shifted, gt, corners, {}), std::invalid_argument);
 }
 
 TEST(BopErrors, MspdOfAKnownShift) {
@@ -154,6 +157,7 @@ TEST(BopErrors, DistanceImageOfKnownPixels) {
   EXPECT_FLOAT_EQ(d.at(1, 1), 3.f) << "the principal point";
   EXPECT_FLOAT_EQ(d.at(3, 1), 3.f * std::sqrt(2.f)) << "one focal length aside: 45 degrees";
   EXPECT_FLOAT_EQ(d.at(2, 2), 0.f) << "missing stays missing";
+  EXPECT_THROW(distanceImage(DepthMap{4, 4, std::vector<float>(3, 1.f)}, K), std::invalid_argument);
 }
 
 // A 10 cm cube 0.6 m in front of the camera, turned, rendered: against itself 0 with or

@@ -22,7 +22,7 @@ class BopDataset : public pcl_icf_test::TempDirTest {
   BopDataset() : TempDirTest("pcl_icf_bop") {}
   std::string write(const std::string& name, const std::string& text) const {
     const std::string p = (dir_ / name).string();
-    std::ofstream(p) << text;
+    std::ofstream(p, std::ios::binary) << text;
     return p;
   }
   /** The message of the FileError \a f throws, "" when it throws none. */
@@ -148,6 +148,12 @@ TEST_F(BopDataset, BadDepthImagesAreRefused) {
   EXPECT_NE(refusal([&] { readBopDepthImage(depth, camera, depth); }).find("8-bit colour"),
             std::string::npos)
       << "a depth PNG is no colour image";
+  std::ifstream in(depth, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string cut = write("cut.png", bytes.substr(0, bytes.size() / 2));
+  EXPECT_NE(refusal([&] { readBopDepthImage(cut, camera); }).find("truncated or corrupt"),
+            std::string::npos)
+      << refusal([&] { readBopDepthImage(cut, camera); });
 }
 
 }  // namespace

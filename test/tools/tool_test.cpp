@@ -656,6 +656,8 @@ TEST_F(Tool, DepthPngSceneIsTheFramesPcd) {
   EXPECT_EQ(run(quote(pcd) + " " + quote(mesh) + camera).code, 2);
   EXPECT_EQ(run(png + " " + quote(mesh) + " --intrinsics 1,2,3 --depth-scale 0.1").code, 2);
   EXPECT_EQ(run(png + " " + quote(mesh) + " --intrinsics 1,1,1,1 --depth-scale 0").code, 2);
+  EXPECT_EQ(run(png + " " + quote(mesh) + camera + " --units mm").code, 2)
+      << "a depth image's unit is --depth-scale";
 }
 
 TEST_F(Tool, HelpPrintsUsage) {

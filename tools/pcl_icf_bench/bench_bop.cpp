@@ -10,7 +10,6 @@
 
 #include "common/arguments.h"
 
-#include <pcl/common/io.h>
 #include <pcl/icf/evaluation/bop_pose_errors.h>
 #include <pcl/icf/evaluation/bop_recall.h>
 #include <pcl/icf/io/bop_dataset.h>
@@ -93,13 +92,12 @@ BopObject loadObject(const fs::path& root, int obj_id, const bop::BopModelInfo& 
   const fs::path path = root / "models" / name;
   BopObject o;
   const pcl::PolygonMesh mesh = bop::loadPolygonMesh(path.string());
-  pcl::PointCloud<pcl::PointXYZ> vertices;
-  pcl::fromPCLPointCloud2(mesh.cloud, vertices);
-  for (const auto& v : vertices)
-    o.vertices.emplace_back(v.x, v.y, v.z);
   pcl::icf::IcfModelParams params;
   params.mesh.scale = 1e-3f;  // BOP's models are in millimetres
   o.model = pcl::icf::buildModelCached(mesh, params, pcl::icf::defaultModelCacheFolder()).model;
+  // The errors' points: the mesh's vertices as the model read them (any vertex type), in mm.
+  for (const Eigen::Vector3f& v : o.model->mesh().vertices())
+    o.vertices.push_back(v.cast<double>() * 1000.0);
   std::vector<eval::ContinuousSymmetry> continuous;
   for (const auto& c : info.symmetries_continuous)
     continuous.push_back({c.axis, c.offset});
@@ -219,10 +217,17 @@ int runBop(int argc, char** argv) {
       if (!cameras[scene_id].count(im_id))
         throw bop::FileError(scene + "/scene_camera.json: image " + std::to_string(im_id) +
                              " is missing");
+      if (!gts[scene_id].count(im_id) || !visibs[scene_id].count(im_id))
+        throw bop::FileError(scene + ": image " + std::to_string(im_id) +
+                             " is missing from scene_gt.json or scene_gt_info.json");
       ImageTruth& it = truth[image];
       it.camera = cameras[scene_id].at(im_id);
-      it.gt = gts[scene_id][im_id];
-      it.visib = visibs[scene_id][im_id];
+      it.gt = gts[scene_id].at(im_id);
+      it.visib = visibs[scene_id].at(im_id);
+      if (it.gt.size() != it.visib.size())
+        throw bop::FileError(scene + ": image " + std::to_string(im_id) + " has " +
+                             std::to_string(it.gt.size()) + " instances in scene_gt.json and " +
+                             std::to_string(it.visib.size()) + " in scene_gt_info.json");
       const std::string rgb = imageFile(scene, "rgb", im_id);
       const auto cloud = bop::readBopDepthImage(imageFile(scene, "depth", im_id), it.camera,
                                                 fs::exists(rgb) ? rgb : "");
@@ -252,8 +257,11 @@ int runBop(int argc, char** argv) {
     }
     std::fputs("\n", stderr);
     fs::create_directories(o.out_dir);
-    const fs::path csv =
-        o.out_dir / ("pcl-icf_" + o.root.filename().string() + "-" + o.split + ".csv");
+    // BOP's name: METHOD_DATASET-SPLIT.csv, the dataset's folder name (ROOT/ or ROOT alike).
+    const fs::path root = o.root.lexically_normal();
+    const std::string dataset =
+        (root.filename().empty() ? root.parent_path().filename() : root.filename()).string();
+    const fs::path csv = o.out_dir / ("pcl-icf_" + dataset + "-" + o.split + ".csv");
     writeCsv(csv, rows);
 
     // Errors of every estimate against every instance of its object in its image.

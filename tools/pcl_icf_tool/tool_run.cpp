@@ -79,9 +79,12 @@ void prepareModel(Model& m, const std::string& cache_folder, bool quiet) {
     try {
       m.icf = pcl::icf::readModelFile(m.path, m.mesh, params);
     } catch (const pcl::icf::ModelFileError& e) {
-      throw BadInput(std::string(e.what()) +
-                     ": prepared in other units (give the --model-units it was prepared "
-                     "with) or by another version (prepare it again with --prepare)");
+      const std::string what = e.what();
+      throw BadInput(what + (what.find("other parameters") == std::string::npos
+                                 ? std::string()
+                                 : ": prepared in other units (give the --model-units it was "
+                                   "prepared with) or by another version (prepare it again with "
+                                   "--prepare)"));
     }
     return;
   }
@@ -179,6 +182,9 @@ Scene loadScene(const std::string& path, Units requested, bool quiet, const Dept
   Scene s;
   s.path = path;
   const bool depth_image = pcl::icf::io::fileExtension(path) == "png";
+  if (depth_image && requested != Units::Auto)
+    throw BadInput("--units is not for a depth image SCENE: " + path +
+                   " becomes a cloud in metres (its unit is --depth-scale)");
   if (!depth_image && (png.intrinsics || png.depth_scale > 0.0 || !png.rgb.empty()))
     throw BadInput(
         "--intrinsics, --depth-scale and --rgb are for a depth image SCENE (.png), "
@@ -193,7 +199,7 @@ Scene loadScene(const std::string& path, Units requested, bool quiet, const Dept
   }
   s.load_ms = msSince(start);
   s.units = depth_image ? Units::Metres : requested;
-  if (requested == Units::Auto) {
+  if (s.units == Units::Auto) {
     // Without stray points: one corrupt return must not make a metre scene look like mm.
     const double extent = seg::robustExtent(*s.input, seg::finiteIndices(*s.input));
     s.units = extent > kSceneMillimetreExtent ? Units::Millimetres : Units::Metres;

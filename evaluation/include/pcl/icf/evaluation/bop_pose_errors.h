@@ -44,13 +44,15 @@ std::vector<Eigen::Isometry3d> symmetryTransformations(
     const std::vector<ContinuousSymmetry>& continuous, double max_step = 0.01);
 
 /** \brief MSSD: min over the symmetries S of max over the model's \a points x of
- * |est x - gt S x|. */
+ * |est x - gt S x|. \throws std::invalid_argument for no points or no symmetries (give at least
+ * the identity: symmetryTransformations does). */
 double mssd(const Eigen::Isometry3d& est, const Eigen::Isometry3d& gt,
             const std::vector<Eigen::Vector3d>& points,
             const std::vector<Eigen::Isometry3d>& symmetries);
 
 /** \brief MSPD: min over the symmetries S of max over the model's \a points x of the image
- * distance (pixels) between the projections through \a K of est x and gt S x. */
+ * distance (pixels) between the projections through \a K of est x and gt S x. \throws as
+ * mssd. */
 double mspd(const Eigen::Isometry3d& est, const Eigen::Isometry3d& gt, const Eigen::Matrix3d& K,
             const std::vector<Eigen::Vector3d>& points,
             const std::vector<Eigen::Isometry3d>& symmetries);
@@ -64,7 +66,8 @@ struct DepthMap {
 };
 
 /** \brief The distance from the camera centre of each pixel's point (BOP's distance image):
- * z |(u - cx) / fx, (v - cy) / fy, 1|, 0 where \a depth is 0. */
+ * z |(u - cx) / fx, (v - cy) / fy, 1|, 0 where \a depth is 0. \throws std::invalid_argument
+ * when \a depth's values do not number its pixels. */
 DepthMap distanceImage(const DepthMap& depth, const Eigen::Matrix3d& K);
 
 /** \brief VSD from distance images (distanceImage): the test image \a test, the model rendered

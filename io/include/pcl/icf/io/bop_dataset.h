@@ -88,7 +88,7 @@ std::map<int, std::vector<double>> readBopSceneVisibility(const std::string& pat
  * metres in the camera's frame (x right, y down, z forward): pixel (u, v) of depth d becomes
  * z = d depth_scale / 1000, x = (u - cx) z / fx, y = (v - cy) z / fy; NaN where d is 0. With
  * \a rgb_png (8-bit RGB or RGBA of the same size) the points take its colours, else white.
- * Read by VTK's PNG reader. \throws FileError for a missing or unreadable PNG, one that is not
+ * Read by libpng. \throws FileError for a missing or unreadable PNG, one that is not
  * 16-bit single-channel or not of the camera's size (where known), a colour image of another
  * size, or a depth_scale <= 0. */
 pcl::PointCloud<pcl::PointXYZRGBA>::Ptr readBopDepthImage(const std::string& depth_png,

@@ -5,7 +5,7 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake ninja-build pkg-config
-  libpcl-dev libopenmpi-dev libeigen3-dev libembree-dev
+  libpcl-dev libopenmpi-dev openmpi-bin libeigen3-dev libembree-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang clang-format libclang-rt-14-dev libomp-14-dev
   xvfb xauth gnuplot-nox

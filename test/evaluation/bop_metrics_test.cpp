@@ -2,7 +2,9 @@
 // symmetry set's size and what each member fixes; MSSD and MSPD of the truth itself (0), of a
 // listed symmetry (0), of a known shift (its length; fx dx / z pixels); VSD on a 4 x 4 image
 // worked pixel by pixel (an occluder, a depth offset, a sideways shift), then on a rendered
-// box; the greedy matching, the top-n rule, invalid instances and the recalls.
+// box; ADD, ADD-S and ADD-S to the surface of a shift and a turn; the greedy matching, the top-n
+// rule, invalid instances and the recalls.
+#include <pcl/icf/evaluation/average_distance.h>
 #include <pcl/icf/evaluation/bop_pose_errors.h>
 #include <pcl/icf/evaluation/bop_recall.h>
 
@@ -18,6 +20,7 @@ using namespace pcl::icf::evaluation;
 
 // Sums of a few doubles: exact to well below this.
 constexpr double kExact = 1e-9;
+constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Isometry3d pose(double angle, const Eigen::Vector3d& axis, const Eigen::Vector3d& t) {
   Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
@@ -200,6 +203,43 @@ MatchGroup threeEstimatesTwoInstances() {
   g.max_estimates = 2;
   g.estimates = {{0.9, {0.30, 0.05}}, {0.8, {0.04, 0.06}}, {0.7, {0.01, 0.01}}};
   return g;
+}
+
+// ADD of a shift is its length; ADD-S of four points on a line shifted by their spacing is a
+// quarter of it (three land on a neighbour, the end one is a spacing away); a half turn of the
+// box's corners about their centre maps them onto each other: ADD-S 0, ADD the mean distance
+// between each corner and its opposite in x and y.
+TEST(AverageDistance, AddAndAdiOfAShiftAndAHalfTurn) {
+  const std::vector<Eigen::Vector3d> line = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}};
+  const Eigen::Isometry3d gt = pose(0.3, {1, 2, 3}, {0.1, -0.2, 5.0});
+  const Eigen::Isometry3d shifted = gt * pose(0.0, {0, 0, 1}, {1, 0, 0});
+  EXPECT_NEAR(add(shifted, gt, line), 1.0, kExact);
+  EXPECT_NEAR(adi(shifted, gt, line), 0.25, 1e-6);  // the tree's floats: 1e-6 of a unit
+  EXPECT_NEAR(add(gt, gt, line), 0.0, kExact);
+  const Eigen::Vector3d c(0.5, -1.0, 2.0);
+  const auto corners = boxCorners(c);
+  const Eigen::Isometry3d turned = gt * halfTurnAbout(c);
+  EXPECT_NEAR(adi(turned, gt, corners), 0.0, 1e-6);
+  EXPECT_NEAR(add(turned, gt, corners), 2.0 * std::sqrt(1.0 + 4.0), kExact);
+  EXPECT_THROW(add(gt, gt, {}), std::invalid_argument);
+  EXPECT_THROW(adi(gt, gt, {}), std::invalid_argument);
+}
+
+// A 10 cm cube: a quarter turn about its centre maps the surface onto itself (0); after a 1 cm
+// shift along x the four -x corners are 1 cm outside the shifted cube and the four +x corners
+// lie on its y and z faces (which now span x in [-4, 6] cm), so the mean is 5 mm; float faces:
+// 1e-6 m.
+TEST(AverageDistance, AddSToTheSurfaceOfACube) {
+  const auto model = pcl::icf::IcfModel::build(pcl::icf::synthetic::makeBox(0.1, 0.1, 0.1));
+  std::vector<Eigen::Vector3d> corners;
+  for (int i = 0; i < 8; ++i)
+    corners.emplace_back(i & 1 ? 0.05 : -0.05, i & 2 ? 0.05 : -0.05, i & 4 ? 0.05 : -0.05);
+  const Eigen::Isometry3d gt = pose(0.4, {1, -1, 2}, {0.02, 0.01, 0.6});
+  EXPECT_NEAR(addSToSurface(*model, gt * pose(kPi / 2, {0, 0, 1}, {0, 0, 0}), gt, corners), 0.0,
+              1e-6);
+  EXPECT_NEAR(addSToSurface(*model, gt * pose(0.0, {0, 0, 1}, {0.01, 0, 0}), gt, corners), 0.005,
+              1e-6);
+  EXPECT_THROW(addSToSurface(*model, gt, gt, {}), std::invalid_argument);
 }
 
 TEST(BopRecall, GreedyByScoreTopNAndInvalidInstances) {

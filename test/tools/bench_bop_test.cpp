@@ -1,7 +1,9 @@
 // pcl_icf_bench --bop on one image of the shared BOP-layout frames (bop-ycbv, scene 0 image 2:
 // the gelatin box and the foam brick at 0.55 m): BOP's CSV (header, R row-major and
 // orthonormal, t in millimetres within 15 mm of scene_gt.json's, one time per image), the
-// scores' table, and bad datasets refused with exit 2.
+// scores' table, and bad datasets refused with exit 2. Three images run once and as two shards
+// under mpirun -np 2, merged: the same CSV but for the times and the same scores; bad shard
+// specs, a missing shard and shards of two runs refused with exit 2.
 #include "test_paths.h"
 
 #include <gtest/gtest.h>
@@ -21,8 +23,8 @@ namespace fs = std::filesystem;
 class BenchBop : public pcl_icf_test::TempDirTest {
  protected:
   BenchBop() : TempDirTest("pcl_icf_bench_bop") {}
-  int run(const std::string& args) const {
-    const std::string cmd = std::string(PCL_ICF_BENCH) + " " + args + " >" +
+  int run(const std::string& args, const std::string& launcher = "") const {
+    const std::string cmd = launcher + std::string(PCL_ICF_BENCH) + " " + args + " >" +
                             (dir_ / "out.txt").string() + " 2>" + (dir_ / "err.txt").string();
     const int status = std::system(cmd.c_str());
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -104,6 +106,85 @@ TEST_F(BenchBop, BadDatasetsExitTwo) {
   EXPECT_EQ(run("--bop " + root + " --targets " + unknown + " --out " + dir_.string()), 2);
   EXPECT_NE(slurp("err.txt").find("object 99 has no entry"), std::string::npos) << slurp("err.txt");
   EXPECT_EQ(run("--bop " + root + " --frobnicate"), 2);
+}
+
+/** The CSV's rows without their time column (times differ between any two runs). */
+std::vector<std::string> rowsWithoutTimes(const fs::path& csv) {
+  std::ifstream in(csv);
+  std::vector<std::string> rows;
+  for (std::string line; std::getline(in, line);)
+    rows.push_back(line.substr(0, line.rfind(',')));
+  return rows;
+}
+
+/** The scores' table: the lines from its header on (the title names the CSV's path). */
+std::string table(const std::string& scores) {
+  const std::size_t at = scores.find("| object");
+  return at == std::string::npos ? "" : scores.substr(at);
+}
+
+// Three images of two scenes (so shard 1 of 2 holds two images and shard 2 one), once in one
+// process and once as mpirun -np 2 (each rank its shard from OMPI_COMM_WORLD_RANK/SIZE), then
+// --merge: the rows are identical but for the time column, and so are the scores.
+TEST_F(BenchBop, MpirunShardsMergeToTheSingleRun) {
+  PCL_ICF_REQUIRE_SHARED(root, "bop-ycbv");
+  const std::string targets =
+      write("targets.json",
+            "[{\"im_id\": 2, \"inst_count\": 1, \"obj_id\": 8, \"scene_id\": 0},\n"
+            " {\"im_id\": 2, \"inst_count\": 1, \"obj_id\": 21, \"scene_id\": 0},\n"
+            " {\"im_id\": 7, \"inst_count\": 1, \"obj_id\": 21, \"scene_id\": 0},\n"
+            " {\"im_id\": 3, \"inst_count\": 1, \"obj_id\": 5, \"scene_id\": 1}]");
+  const fs::path one = dir_ / "one", two = dir_ / "two";
+  const std::string common = "--bop " + root + " --targets " + targets + " --threads 1 --out ";
+  ASSERT_EQ(run(common + one.string()), 0) << slurp("err.txt");
+  const std::string single = slurp("out.txt");
+  // Open MPI refuses root unless told; CI's containers run as root.
+  const std::string mpirun = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " +
+                             std::string(PCL_ICF_MPIRUN) + " -np 2 --oversubscribe ";
+  ASSERT_EQ(run(common + two.string(), mpirun), 0) << slurp("err.txt");
+  EXPECT_FALSE(fs::exists(two / "pcl-icf_bop-ycbv-test.csv")) << "shards do not score";
+  ASSERT_TRUE(fs::exists(two / "pcl-icf_bop-ycbv-test.shard-1-of-2.json"));
+  ASSERT_TRUE(fs::exists(two / "pcl-icf_bop-ycbv-test.shard-2-of-2.json"));
+  ASSERT_EQ(run(common + two.string() + " --merge"), 0) << slurp("err.txt");
+  const auto a = rowsWithoutTimes(one / "pcl-icf_bop-ycbv-test.csv");
+  EXPECT_GE(a.size(), 3u);
+  EXPECT_EQ(a, rowsWithoutTimes(two / "pcl-icf_bop-ycbv-test.csv"));
+  EXPECT_FALSE(table(single).empty()) << single;
+  EXPECT_EQ(table(single), table(slurp("out.txt")));
+
+  // A shard of another run (another seed) beside the others: refused, no CSV written.
+  fs::remove(two / "pcl-icf_bop-ycbv-test.csv");
+  ASSERT_EQ(run(common + two.string() + " --shard 2/2 --seed 7"), 0) << slurp("err.txt");
+  EXPECT_EQ(run(common + two.string() + " --merge"), 2);
+  EXPECT_NE(slurp("err.txt").find("of another run"), std::string::npos) << slurp("err.txt");
+  EXPECT_FALSE(fs::exists(two / "pcl-icf_bop-ycbv-test.csv"));
+  // A missing shard, and a record without its CSV.
+  fs::remove(two / "pcl-icf_bop-ycbv-test.shard-2-of-2.csv");
+  EXPECT_EQ(run(common + two.string() + " --merge"), 2);
+  EXPECT_NE(slurp("err.txt").find("did not finish"), std::string::npos) << slurp("err.txt");
+  fs::remove(two / "pcl-icf_bop-ycbv-test.shard-2-of-2.json");
+  EXPECT_EQ(run(common + two.string() + " --merge"), 2);
+  EXPECT_NE(slurp("err.txt").find("shard 2 of 2 is missing"), std::string::npos)
+      << slurp("err.txt");
+  EXPECT_FALSE(fs::exists(two / "pcl-icf_bop-ycbv-test.csv"));
+}
+
+// Shard specs that name no shard, from the option or from the environment: exit 2 before any
+// work.
+TEST_F(BenchBop, BadShardSpecsExitTwo) {
+  PCL_ICF_REQUIRE_SHARED(root, "bop-ycbv");
+  const std::string common = "--bop " + root + " --out " + dir_.string();
+  for (const char* spec : {"3/2", "0/0", "0/2", "1", "a/b", "1/-2", "2/"}) {
+    EXPECT_EQ(run(common + " --shard " + spec), 2) << spec;
+    EXPECT_NE(slurp("err.txt").find("--shard"), std::string::npos) << slurp("err.txt");
+  }
+  EXPECT_EQ(run(common, "OMPI_COMM_WORLD_RANK=2 OMPI_COMM_WORLD_SIZE=2 "), 2);
+  EXPECT_NE(slurp("err.txt").find("OMPI_COMM_WORLD"), std::string::npos) << slurp("err.txt");
+  EXPECT_EQ(run(common, "SLURM_ARRAY_TASK_ID=x SLURM_ARRAY_TASK_COUNT=4 "), 2);
+  EXPECT_NE(slurp("err.txt").find("SLURM_ARRAY_TASK_ID=x"), std::string::npos) << slurp("err.txt");
+  EXPECT_EQ(run(common + " --merge --shard 1/2"), 2);
+  EXPECT_EQ(run(common + " --merge"), 2);
+  EXPECT_NE(slurp("err.txt").find("no shards to merge"), std::string::npos) << slurp("err.txt");
 }
 
 }  // namespace

@@ -166,8 +166,10 @@ int usage(const char* program) {
                "          [--sac K=V,...] [--icf K=V,...] [--verification K=V,...]\n"
                "          [--tuning K=V,...] [--exact-mesh] [--repeat N] [--no-plots]\n"
                "          [--scene-min-confidence C] [--ppf-sampling S] MANIFEST...\n"
+               "       %s --bop ROOT [--split S] [--targets FILE] [--out DIR] [--threads N]\n"
+               "          [--seed S] [--vsd-delta MM] [--shard K/N | --merge]\n"
                "Methods (default: all but icf-scene):",
-               program);
+               program, program);
   for (const auto& m : clusterMethods())
     std::fprintf(stderr, " %s", m.c_str());
   std::fprintf(stderr, ", icf-scene (whole scene)\n");

@@ -169,6 +169,26 @@ TEST_F(BenchBop, MpirunShardsMergeToTheSingleRun) {
   EXPECT_FALSE(fs::exists(two / "pcl-icf_bop-ycbv-test.csv"));
 }
 
+// A test split whose truth is withheld (no scene_gt.json, no scene_gt_info.json; the dataset
+// here is bop-ycbv's files linked without them): the CSV is written, the scores are not.
+TEST_F(BenchBop, SplitWithoutTruthGetsItsCsvOnly) {
+  PCL_ICF_REQUIRE_SHARED(root, "bop-ycbv");
+  const fs::path ds = dir_ / "withheld", scene = ds / "test" / "000000";
+  fs::create_directories(scene);
+  for (const char* f : {"camera.json", "models"})
+    fs::create_symlink(fs::path(root) / f, ds / f);
+  for (const char* f : {"depth", "rgb", "scene_camera.json"})
+    fs::create_symlink(fs::path(root) / "test" / "000000" / f, scene / f);
+  const std::string targets =
+      write("targets.json", "[{\"im_id\": 2, \"inst_count\": 1, \"obj_id\": 21, \"scene_id\": 0}]");
+  ASSERT_EQ(run("--bop " + ds.string() + " --targets " + targets + " --out " + dir_.string()), 0)
+      << slurp("err.txt");
+  EXPECT_NE(slurp("out.txt").find("not scored"), std::string::npos) << slurp("out.txt");
+  EXPECT_EQ(rowsWithoutTimes(dir_ / "pcl-icf_withheld-test.csv").size(), 2u)
+      << "the header and the brick";
+  EXPECT_FALSE(fs::exists(dir_ / "bop_scores.md"));
+}
+
 // Shard specs that name no shard, from the option or from the environment: exit 2 before any
 // work.
 TEST_F(BenchBop, BadShardSpecsExitTwo) {

@@ -4,6 +4,7 @@
  */
 #include "bop_bench_data.h"
 
+#include <pcl/icf/face_mesh.h>
 #include <pcl/icf/io/mesh_io.h>
 #include <pcl/icf/model_file.h>
 
@@ -18,19 +19,30 @@ namespace fs = std::filesystem;
 namespace bop = pcl::icf::io;
 namespace eval = pcl::icf::evaluation;
 
-BopObject loadObject(const fs::path& root, int obj_id, const bop::BopModelInfo& info) {
+std::string objectFile(int obj_id) {
   char name[32];
   std::snprintf(name, sizeof name, "obj_%06d.ply", obj_id);
-  const fs::path path = root / "models" / name;
+  return name;
+}
+
+BopObject loadObject(const fs::path& root, const std::string& models, int obj_id,
+                     const bop::BopModelInfo& info) {
   BopObject o;
-  const pcl::PolygonMesh mesh = bop::loadPolygonMesh(path.string());
+  const pcl::PolygonMesh mesh = bop::loadPolygonMesh((root / models / objectFile(obj_id)).string());
   pcl::icf::IcfModelParams params;
   params.mesh.scale = 1e-3f;  // BOP's models are in millimetres
   o.model = pcl::icf::buildModelCached(mesh, params, pcl::icf::defaultModelCacheFolder()).model;
-  // The errors' points: the mesh's vertices as the model read them (any vertex type), in mm.
+  // The errors' points: the vertices of the evaluation model where the dataset has one, of the
+  // model otherwise, as a model reads them (any vertex type), in mm.
+  const fs::path eval_path = root / "models_eval" / objectFile(obj_id);
+  pcl::icf::FaceMeshOptions eval_options;  // in mm, as BOP's files
+  const pcl::icf::FaceMesh eval_mesh =
+      fs::exists(eval_path)
+          ? pcl::icf::FaceMesh::build(bop::loadPolygonMesh(eval_path.string()), eval_options)
+          : pcl::icf::FaceMesh::build(mesh, eval_options);
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
-  for (const Eigen::Vector3f& v : o.model->mesh().vertices()) {
-    o.vertices.push_back(v.cast<double>() * 1000.0);
+  for (const Eigen::Vector3f& v : eval_mesh.vertices()) {
+    o.vertices.push_back(v.cast<double>());
     lo = lo.cwiseMin(o.vertices.back());
     hi = hi.cwiseMax(o.vertices.back());
   }
@@ -51,21 +63,22 @@ std::string imageFile(const std::string& scene, const char* kind, int im_id) {
 
 }  // namespace
 
-BopBenchData::BopBenchData(const fs::path& root, const std::string& split, const fs::path& targets)
+BopBenchData::BopBenchData(const fs::path& root, const std::string& split, const fs::path& targets,
+                           const std::string& models)
     : root_(root), split_(split) {
   // BOP's name: the dataset's folder name (ROOT/ or ROOT alike).
   const fs::path normal = root.lexically_normal();
   name_ =
       (normal.filename().empty() ? normal.parent_path().filename() : normal.filename()).string();
   camera_ = bop::readBopDatasetCamera((root / "camera.json").string());
-  const auto infos = bop::readBopModelsInfo((root / "models" / "models_info.json").string());
+  const auto infos = bop::readBopModelsInfo((root / models / "models_info.json").string());
   for (const auto& t : bop::readBopTargets(targets.string())) {
     if (!infos.count(t.obj_id))
       throw bop::FileError(targets.string() + ": object " + std::to_string(t.obj_id) +
                            " has no entry in models_info.json");
     by_image_[{t.scene_id, t.im_id}].push_back(t);
     if (!objects_.count(t.obj_id))
-      objects_[t.obj_id] = loadObject(root, t.obj_id, infos.at(t.obj_id));
+      objects_[t.obj_id] = loadObject(root, models, t.obj_id, infos.at(t.obj_id));
   }
 }
 
@@ -79,8 +92,14 @@ void BopBenchData::readScene(int scene_id) {
   const std::string scene = sceneFolder(scene_id);
   const auto cameras =
       bop::readBopSceneCamera(scene + "/scene_camera.json", camera_.width, camera_.height);
-  const auto gts = bop::readBopSceneGt(scene + "/scene_gt.json");
-  const auto visibs = bop::readBopSceneVisibility(scene + "/scene_gt_info.json");
+  // Test splits whose truth BOP withholds have neither file: run, not scored.
+  const bool annotated = fs::exists(scene + "/scene_gt.json");
+  std::map<int, std::vector<bop::BopPose>> gts;
+  std::map<int, std::vector<double>> visibs;
+  if (annotated) {
+    gts = bop::readBopSceneGt(scene + "/scene_gt.json");
+    visibs = bop::readBopSceneVisibility(scene + "/scene_gt_info.json");
+  }
   for (const auto& [image, targets] : by_image_) {
     if (image.first != scene_id)
       continue;
@@ -88,11 +107,14 @@ void BopBenchData::readScene(int scene_id) {
     const std::string im = std::to_string(im_id);
     if (!cameras.count(im_id))
       throw bop::FileError(scene + "/scene_camera.json: image " + im + " is missing");
+    BopImageTruth& t = truth_[image];
+    t.camera = cameras.at(im_id);
+    t.annotated = annotated;
+    if (!annotated)
+      continue;
     if (!gts.count(im_id) || !visibs.count(im_id))
       throw bop::FileError(scene + ": image " + im +
                            " is missing from scene_gt.json or scene_gt_info.json");
-    BopImageTruth& t = truth_[image];
-    t.camera = cameras.at(im_id);
     t.gt = gts.at(im_id);
     t.visib = visibs.at(im_id);
     if (t.gt.size() != t.visib.size())

@@ -43,16 +43,21 @@ struct BopImageTruth {
   pcl::icf::io::BopCamera camera;
   std::vector<pcl::icf::io::BopPose> gt;
   std::vector<double> visib;
+  /** The scene has scene_gt.json and scene_gt_info.json (BOP withholds them for some test
+   * splits: those are run, not scored). */
+  bool annotated = false;
 };
 
 /** A BOP dataset's split as the bench runs it. */
 class BopBenchData {
  public:
-  /** Reads ROOT/camera.json, ROOT/models/models_info.json and \a targets, and prepares every
-   * targeted object (models through the model cache). \throws pcl::icf::io::FileError for a
-   * bad file or a target whose object has no models_info.json entry. */
+  /** Reads ROOT/camera.json, ROOT/MODELS/models_info.json and \a targets, and prepares every
+   * targeted object from ROOT/MODELS/obj_NNNNNN.ply (models through the model cache); the
+   * errors' points are the vertices of ROOT/models_eval/ where the dataset has it (as the BOP
+   * toolkit scores), of ROOT/MODELS/ otherwise. \throws pcl::icf::io::FileError for a bad
+   * file or a target whose object has no models_info.json entry. */
   BopBenchData(const std::filesystem::path& root, const std::string& split,
-               const std::filesystem::path& targets);
+               const std::filesystem::path& targets, const std::string& models = "models");
 
   /** The dataset's folder name (BOP's DATASET in METHOD_DATASET-SPLIT.csv). */
   const std::string& name() const { return name_; }
@@ -65,7 +70,8 @@ class BopBenchData {
   }
   const std::map<int, BopObject>& objects() const { return objects_; }
 
-  /** The image's camera, instances and visibility (the scene's JSON read once). \throws
+  /** The image's camera, instances and visibility (the scene's JSON read once; no instances
+   * and not annotated where the scene has no scene_gt.json). \throws
    * pcl::icf::io::FileError when the image is missing from one of them or they disagree. */
   const BopImageTruth& truth(const BopImage& image);
   /** The image's depth PNG (with its colour PNG when there is one) as an organized cloud in

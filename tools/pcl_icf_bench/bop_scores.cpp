@@ -78,16 +78,18 @@ std::string bopScoresTable(BopBenchData& data, const std::vector<BopEstimate>& r
           instances.push_back(g);
       eval::MatchGroup base;
       base.max_estimates = static_cast<std::size_t>(t.inst_count);
-      std::vector<eval::DepthMap> gt_renders;
+      const std::vector<const BopEstimate*>& found = estimates[{image, t.obj_id}];
+      std::vector<eval::DepthMap> gt_renders;  // only where there is an estimate to compare
       for (const std::size_t g : instances) {
         base.gt_valid.push_back(truth.visib[g] >= params.visib_gt_min);
-        gt_renders.push_back(renderedDistances(obj, truth.gt[g].model_to_camera, truth.camera,
-                                               depth.width, depth.height));
+        if (!found.empty())
+          gt_renders.push_back(renderedDistances(obj, truth.gt[g].model_to_camera, truth.camera,
+                                                 depth.width, depth.height));
       }
       ObjectGroups& og = groups[t.obj_id];
       std::vector<eval::MatchGroup> vsd(fractions.size(), base);
       eval::MatchGroup mssd = base, mspd = base, add = base, rule = base;
-      for (const BopEstimate* e : estimates[{image, t.obj_id}]) {
+      for (const BopEstimate* e : found) {
         const eval::DepthMap est_render =
             renderedDistances(obj, e->pose, truth.camera, depth.width, depth.height);
         std::vector<eval::MatchGroup::Estimate> ev(fractions.size(), {e->score, {}});

@@ -167,7 +167,7 @@ int usage(const char* program) {
                "          [--tuning K=V,...] [--exact-mesh] [--repeat N] [--no-plots]\n"
                "          [--scene-min-confidence C] [--ppf-sampling S] MANIFEST...\n"
                "       %s --bop ROOT [--split S] [--targets FILE] [--out DIR] [--threads N]\n"
-               "          [--seed S] [--vsd-delta MM] [--shard K/N | --merge]\n"
+               "          [--models DIR] [--seed S] [--vsd-delta MM] [--shard K/N | --merge]\n"
                "Methods (default: all but icf-scene):",
                program, program);
   for (const auto& m : clusterMethods())

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 15's synthetic tracking bars (doc/BENCHMARKS.md "Tracking"): writes N sequences with
+# The synthetic tracking bars (doc/BENCHMARKS.md "Tracking"): writes N sequences with
 # pcl_icf_make_dataset --kind sequence, tracks each with pcl_icf_tool --track (its two tracked
 # models), and scores the poses against the ground truth with pcl_icf_track_score.
 #   scripts/bench_tracking.sh [SEQUENCES (3)] [FRAMES (40)] [SEED (1515)]

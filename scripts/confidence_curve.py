@@ -2,7 +2,7 @@
 # pcl_icf — Iterative Closest Face registration for PCL.
 # SPDX-License-Identifier: BSD-3-Clause
 """The curve of false poses against missed objects as the accept threshold on the confidence
-moves (issue 11, doc/BENCHMARKS.md "Identification").
+moves (doc/BENCHMARKS.md "Identification").
 
 Input: NAME_cases.csv files written by
     pcl_icf_bench --methods icf-scene --scene-min-confidence 0 ...

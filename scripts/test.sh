@@ -9,7 +9,7 @@ scripts/setup.sh
 JOBS=${JOBS:-$(nproc)}
 
 # PCL_ICF_PYTHON: the Python module and its pytest suite (ctest runs it), release build only.
-# PCL_ICF_BENCH_PEERS=ON: Open3D's and OpenCV's methods in pcl_icf_bench, required (issue 14).
+# PCL_ICF_BENCH_PEERS=ON: Open3D's and OpenCV's methods in pcl_icf_bench, required.
 cmake --preset release -DPCL_ICF_PYTHON=ON -DPCL_ICF_BENCH_PEERS=ON >/dev/null
 cmake --build --preset release -j "$JOBS"
 ctest --preset release -j "$JOBS"

@@ -1,9 +1,9 @@
 /**
  * \file synthetic_clutter.h
- * \brief A cluttered desk seen by a simulated Kinect v1 (issue 12's development data): 10-25
- * objects touching one another, some standing on a box, more on a shelf behind the desk's edge,
- * the target 30-100% visible, depth noise, holes and flying pixels along the edges; and the
- * same frame with the target taken away (its target-absent twin).
+ * \brief A cluttered desk seen by a simulated Kinect v1 (the development data of the clutter
+ * suites): 10-25 objects touching one another, some standing on a box, more on a shelf behind the
+ * desk's edge, the target 30-100% visible, depth noise, holes and flying pixels along the edges;
+ * and the same frame with the target taken away (its target-absent twin).
  *
  * Used by `pcl_icf_make_dataset --kind clutter` and its tests. Lengths in metres; the desk
  * frame is makeTabletopScene's table frame (z up, surface z = 0), see depth_camera.h.

@@ -1,7 +1,7 @@
 /**
  * \file synthetic_sequence.h
  * \brief A synthetic stream of table-top frames with ground truth: objects moved along smooth
- * trajectories, taken away and put back, hiding one another (issue 15's test data).
+ * trajectories, taken away and put back, hiding one another (the tracking tests' data).
  *
  * Used by the tracker's test and by `pcl_icf_make_dataset --kind sequence`. Frames are
  * rendered with makeTabletopScene (same table, camera and noise model); lengths in metres,

@@ -4,7 +4,7 @@
  */
 // Internal to pcl_icf::io: our own readers for PCD, PLY, OBJ, STL and legacy VTK.
 //
-// Why not PCL's and VTK's readers: fuzzing them through our loaders (fuzz/, issue 7) found a
+// Why not PCL's and VTK's readers: fuzzing them through our loaders (fuzz/) found a
 // SIGSEGV in pcl::PCDReader on a FIELDS line of control bytes and a 100 TB allocation when
 // binary data after DATA happened to read as a header line, an assert() in pcl::PLYReader
 // on a list property inside the vertex element, a SIGSEGV in vtkOBJReader on a malformed face

@@ -77,7 +77,7 @@ def test_same_as_the_tool_on_ycbv_frames(tool, tmp_path):
         assert got.confidence == pytest.approx(line["confidence"], abs=1e-9)
         assert line["pose"] is not None and got.pose is not None
         np.testing.assert_allclose(got.pose, np.array(line["pose"]), rtol=0, atol=1e-6)
-        # And the annotation: within 1 cm (issue 15's bar for these frames).
+        # And the annotation: within 1 cm (the tracking bar for these frames).
         gt = json.loads((YCBV / "cases" / f"y0000_{path.stem[-3:]}_gelatin_box" /
                          "gt.json").read_text())
         truth = next(np.array(o["pose"]) for o in gt["objects"] if o.get("target"))

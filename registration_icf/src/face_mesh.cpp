@@ -20,7 +20,7 @@ namespace icf {
 namespace {
 
 /** In double: in float the cross products of tiny faces underflow to denormals (a "unit"
- * normal of norm 0.3 after normalized()) and those of huge ones overflow (fuzz/, issue 7). */
+ * normal of norm 0.3 after normalized()) and those of huge ones overflow (fuzz/). */
 Eigen::Vector3d newellNormal(const std::vector<Eigen::Vector3f>& v,
                              const std::vector<std::uint32_t>& poly) {
   Eigen::Vector3d n = Eigen::Vector3d::Zero();

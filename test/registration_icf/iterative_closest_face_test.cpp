@@ -592,7 +592,7 @@ TEST(Objective, MatchesThesisSection421) {
 
 }  // namespace
 
-// Issue 13: pcl::IterativeClosestFace as a drop-in for pcl::IterativeClosestPoint, checked
+// pcl::IterativeClosestFace as a drop-in for pcl::IterativeClosestPoint, checked
 // through pcl::Registration pointers against independent oracles: the known pose, the source
 // moved by hand, brute-force point-to-face distances.
 namespace {

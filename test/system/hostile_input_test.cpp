@@ -1,4 +1,4 @@
-// The hostile-input table of doc/HOSTILE_INPUTS.md as tests (issue 7): broken files, lying
+// The hostile-input table of doc/HOSTILE_INPUTS.md as tests: broken files, lying
 // headers, NaN, Inf and 1e30 coordinates, degenerate clouds and meshes, wrong units, a scene
 // without a table. Each gives a clear error (exception type and a fragment of its message) or
 // a correct answer, never a crash or a hang, and a lying header does not allocate what it

@@ -1,4 +1,4 @@
-// Issue 13: pcl::IterativeClosestFace against pcl::IterativeClosestPoint in one PCL pipeline.
+// pcl::IterativeClosestFace against pcl::IterativeClosestPoint in one PCL pipeline.
 // The pipeline a PCL user writes (FPFH + SAC-IA, then a refinement through a
 // pcl::Registration pointer, then getFitnessScore, hasConverged and the output cloud) is one
 // template function, run with ICP (target: dense mesh samples) and with ICF (target: the mesh)

@@ -1,4 +1,4 @@
-// Regression tests for what the fuzzers (fuzz/, issue 7) found: every input that crashed,
+// Regression tests for what the fuzzers (fuzz/) found: every input that crashed,
 // hung or exhausted memory is kept under test/data/regression/ and must now give a clear error.
 // Also: every seed of the fuzzers' corpora (fuzz/corpus/) is a valid file and loads, and our
 // readers (which replaced PCL's and VTK's, io/src/file_formats.h) give what PCL's gave on the

@@ -1,4 +1,4 @@
-// Results do not depend on the thread count (issue 7, doc/ARCHITECTURE.md "Threads and
+// Results do not depend on the thread count (doc/ARCHITECTURE.md "Threads and
 // determinism"): the same seed gives bit-identical poses, scores and decisions with 1, 2 and 3
 // threads, for the localizer over a whole scene, for the thesis search and for the
 // SampleConsensus fallback. Run under ThreadSanitizer by the "tsan" preset.

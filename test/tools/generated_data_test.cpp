@@ -2,7 +2,7 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
-// The committed generated data still match their generators (issue 14): the bundled demo
+// The committed generated data still match their generators: the bundled demo
 // (data/demo, make_demo_scene) regenerated whole, and the first cases of every committed
 // manifest of pcl_icf_make_dataset (data/manifests/synthetic_*.txt) regenerated from the command
 // in the manifest's own header. A generator change that moves a pose, a point or a name fails

@@ -2,7 +2,7 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
-// pcl_icf_make_dataset --kind sequence (issue 15) end to end: the frames, their list and the
+// pcl_icf_make_dataset --kind sequence end to end: the frames, their list and the
 // ground truth, checked against the frames' own points; the same seed gives the same bytes;
 // bad options are refused.
 #include "synthetic/mesh_geometry.h"

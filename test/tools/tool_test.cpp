@@ -366,7 +366,7 @@ TEST_F(Tool, EveryBadInputExitsTwoWithOneLine) {
     expectBadInput(scene + " " + mesh + " --view", "--view needs a display");
 }
 
-// Scenes with nothing to find (issue 12, bad input): a wall that fills a Kinect frame (no
+// Scenes with nothing to find (bad input): a wall that fills a Kinect frame (no
 // table, or the wall taken as the table: either way no object) and a 2 x 2 cm patch (the box
 // is larger than the scene: no pose gathers votes) exit 1 with the reason or 2 with one line,
 // never a pose.

@@ -2,7 +2,7 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
-// pcl_icf_tool --track (issue 15) end to end on the bundled demo scene: one JSON line per
+// pcl_icf_tool --track end to end on the bundled demo scene: one JSON line per
 // frame, bad frames named and skipped, the stream going on, exit status as in batch mode.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -2,7 +2,7 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
-// ObjectTracker (issue 15): a synthetic sequence (an object moved smoothly, taken away for some
+// ObjectTracker: a synthetic sequence (an object moved smoothly, taken away for some
 // frames and put back) and the real consecutive frames of ycbv-video0000.
 #include "synthetic/depth_camera.h"
 #include "synthetic/pose_error.h"

@@ -28,7 +28,7 @@
 //   (the similar shape, same colour) and the neighbours, the whole organized frame. Groups
 //   P-TallCylinder, P-Box5, P-Amicelly, P-EisKaffe, P-YellowRoundSalt; the manifest line has
 //   the target's truth and cluster=all (for icf-scene: find the right one of two look-alikes).
-// --kind clutter: N cluttered desks (synthetic::makeClutterScene, issue 12): 10-25 objects of
+// --kind clutter: N cluttered desks (synthetic::makeClutterScene): 10-25 objects of
 //   every model but the target's, most touching a neighbour, some standing on a box or a can,
 //   2-5 more on a shelf behind the desk's far edge, seen from 0.5-0.8 m above at 35-60 degrees
 //   with Kinect v1 edge artefacts (holes and flying pixels along depth edges) besides the noise;
@@ -398,7 +398,7 @@ std::string manifestHeader(const Options& opt) {
         "# (cluster=all is the whole frame: the cluster methods are not run on these cases).\n";
   if (opt.kind == "clutter")
     text +=
-        "# CLUTTERED DESKS (issue 12): 10-25 objects touching, stacked, more on a shelf behind;\n"
+        "# CLUTTERED DESKS: 10-25 objects touching, stacked, more on a shelf behind;\n"
         "# Kinect v1 holes and flying pixels along depth edges. Whole organized frames (x y z\n"
         "# rgb). K_NNN: the target's part in view 30-100% visible, group by the share of the\n"
         "# whole target seen, the part beyond the frame unseen (K-v0-30, K-v30-50, K-v50-75,\n"

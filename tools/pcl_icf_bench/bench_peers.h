@@ -2,7 +2,7 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
-// pcl_icf_bench's non-PCL peers (issue 14), on the same clusters as the other methods:
+// pcl_icf_bench's non-PCL peers, on the same clusters as the other methods:
 //   o3d-ransac+icp  Open3D 0.16: FPFH, RegistrationRANSACBasedOnFeatureMatching (mutual filter,
 //                   edge-length 0.9 and distance checkers, 100,000 iterations, confidence
 //                   0.999), then point-to-plane RegistrationICP

@@ -3,7 +3,7 @@
  * SPDX-License-Identifier: BSD-3-Clause
  */
 // pcl_icf_track_score: scores pcl_icf_tool --track's JSON lines against the ground truth of
-// pcl_icf_make_dataset --kind sequence (issue 15's bars, doc/BENCHMARKS.md "Tracking").
+// pcl_icf_make_dataset --kind sequence (the tracking bars, doc/BENCHMARKS.md "Tracking").
 //
 //   pcl_icf_track_score [--poses NAME] [--min-visible F] SEQDIR...
 //
@@ -212,11 +212,13 @@ bool within(const std::vector<int>& d, int bar) {
 }
 
 int usage() {
-  std::fprintf(stderr,
-               "Usage: pcl_icf_track_score [--poses NAME] [--min-visible F] SEQDIR...\n"
-               "Scores SEQDIR/NAME (default poses.jsonl, pcl_icf_tool --track's output) against\n"
-               "SEQDIR/truth.json (pcl_icf_make_dataset --kind sequence). Exit 0: issue 15's\n"
-               "bars met, 1: not met, 2: bad input.\n");
+  std::fprintf(
+      stderr,
+      "Usage: pcl_icf_track_score [--poses NAME] [--min-visible F] SEQDIR...\n"
+      "Scores SEQDIR/NAME (default poses.jsonl, pcl_icf_tool --track's output) against\n"
+      "SEQDIR/truth.json (pcl_icf_make_dataset --kind sequence). Exit 0: the bars met\n"
+      "(99%% of the frames accurate, lost and re-found within a few frames, no pose while\n"
+      "absent), 1: not met, 2: bad input.\n");
   return 2;
 }
 

@@ -5,7 +5,7 @@
 #pragma once
 
 /** \file
- * \brief Following known objects over a stream of depth frames (issue 15): the first frame, or
+ * \brief Following known objects over a stream of depth frames: the first frame, or
  * the first after a loss, is searched with the scene-level localizer (localizeObject); every
  * next frame refines the last pose, moved on by a constant-velocity prediction, with iterative
  * closest face (refinePose) on the points near the prediction, and verifies it with the same

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Calibrates AcceptanceParams::max_seen_through (doc/BENCHMARKS.md, "Seen through").
+"""Calibrates AcceptanceParams::max_seen_through (doc/experiments/2026-11-27-seen-through.md, "Seen through").
 
 For every case of the given bench manifests (doc/DATASETS.md) the cluster is cut as the bench
 cuts it (cluster=all: the whole cloud; cluster=crop:M: the points inside the model's box at the

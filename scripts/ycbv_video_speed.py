@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Time localize() on the 18 ycbv-video0000 cases under four settings in one run (ratios of
-medians from the same run; doc/BENCHMARKS.md, "Where the time goes"): before (one
+medians from the same run; doc/experiments/2026-11-27-real-frame-time.md, "Where the time goes"): before (one
 full-resolution final refinement, every hypothesis scored on the whole subsample, every start
 refined), coarse to fine alone, coarse to fine + the global search's cascade, and the default
 (both, and no final refinement for a start the depth verification gives no chance). Prints per case the registration time, the translation error and whether the

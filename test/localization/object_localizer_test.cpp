@@ -528,11 +528,11 @@ INSTANTIATE_TEST_SUITE_P(Localizer, YcbObjects,
 
 // LocalizerParams::useExactMeshSettings on a real frame with a scanned mesh, the case they are
 // not for. YCB's gelatin-box mesh is 1-3 mm off the real box, so its right pose fits the real
-// depth at 1.25-1.47 sigma (doc/BENCHMARKS.md, "How closely a pose fits"): the defaults (limit
-// 1.5) find it within 1 cm of the annotation (translation of the model origin; the frame's
-// gelatin box is posed 0.4 mm off), the exact-mesh settings (limit 0.8) refuse that same pose
-// and the refusal says why: the fit, between the two limits, so a user who set them on a
-// scanned mesh can tell.
+// depth at 1.25-1.47 sigma (doc/experiments/2026-11-28-confidence-residual-and-evidence.md, "How
+// closely a pose fits"): the defaults (limit 1.5) find it within 1 cm of the annotation
+// (translation of the model origin; the frame's gelatin box is posed 0.4 mm off), the exact-mesh
+// settings (limit 0.8) refuse that same pose and the refusal says why: the fit, between the two
+// limits, so a user who set them on a scanned mesh can tell.
 TEST(Localizer, ExactMeshSettingsRefuseAScannedMeshAndSaySo) {
   PCL_ICF_REQUIRE_SHARED(scene_path, "ycbv-video0000/scenes/ycbv0000_000002.pcd");
   PCL_ICF_REQUIRE_SHARED(mesh_path, "ycbv-video0000/models/ycb_009_gelatin_box.ply");

@@ -137,7 +137,8 @@ TEST(DepthVerification, TellsARightPoseFromWrongOnes) {
 // over its pixels alone. Every other factor is 1 (no conflict, no continuation: the board's
 // edge is a step towards the camera), so the confidence is min(1, supported / full_evidence)
 // exactly: below min_confidence at the old 0.5, and accepted at the default 0.4 once at least
-// 35% of the box is seen (doc/BENCHMARKS.md, "How much of a target must be seen").
+// 35% of the box is seen (doc/experiments/2026-11-28-confidence-residual-and-evidence.md, "How much
+// of a target must be seen").
 TEST(DepthVerification, AnOccludedTargetKeepsTheEvidenceItShows) {
   const RenderedBox alone = renderBox(synthetic::ScanNoise::none());
   const pcl::PolygonMesh board = synthetic::makeBox(0.2, 0.4, 0.01);

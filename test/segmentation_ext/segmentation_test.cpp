@@ -800,12 +800,13 @@ TEST_P(Mosd, PrecisionRecallPerSegment) {
 
 // The same scoring after the localizer's second step: every Euclidean cluster split where its
 // surface turns concave (splitByConvexity, LCCP over supervoxels), model-free, as the localizer
-// does to a cluster too big for its model. Printed as a report (doc/BENCHMARKS.md, "mOSD").
-// Asserted, on every segment of at least 500 points: its best convexity segment is one object
-// (precision >= 0.95: at most 5% of it another object's points; Euclidean clustering gives
-// 0.07-0.54 on the touching and stacked ones); and over a scene at least half the objects keep
-// 90% of their points in one segment (the split may cut an object, not most of them: the
-// localizer still searches the whole cluster when no segment is accepted).
+// does to a cluster too big for its model. Printed as a report
+// (doc/experiments/2026-11-28-convexity-split-mosd.md, "mOSD"). Asserted, on every segment of at
+// least 500 points: its best convexity segment is one object (precision >= 0.95: at most 5% of it
+// another object's points; Euclidean clustering gives 0.07-0.54 on the touching and stacked ones);
+// and over a scene at least half the objects keep 90% of their points in one segment (the split may
+// cut an object, not most of them: the localizer still searches the whole cluster when no segment
+// is accepted).
 TEST_P(Mosd, ConvexitySplitPerSegment) {
   const MosdExpectation& expect = GetParam();
   PCL_ICF_REQUIRE_SHARED(path, "mosd/" + expect.scene + ".pcd");

@@ -234,8 +234,8 @@ namespace {
  * moved by +-shift x the model's bounding-box extent along each of the box's three axes (the
  * model slid along them): where most of an object is hidden, the search places the model on
  * the centroid of what shows, and the right pose lies towards the hidden side, beyond the
- * refinement's reach (doc/BENCHMARKS.md, "Re-acquisition near the last pose"). shift 0: the
- * hypotheses alone. */
+ * refinement's reach (doc/experiments/2026-11-28-tracking-reacquisition.md, "Re-acquisition near
+ * the last pose"). shift 0: the hypotheses alone. */
 std::vector<Eigen::Isometry3f> startsWithShifts(const std::vector<PoseHypothesis>& hypotheses,
                                                 const IcfModel& model, float shift) {
   std::vector<Eigen::Isometry3f> starts;

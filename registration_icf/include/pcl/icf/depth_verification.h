@@ -70,10 +70,10 @@ struct DepthVerificationParams {
   /** Share of the model's rendered pixels that must be supported for full evidence; fewer
    * lower the confidence in proportion (a target 20% visible at 0.4 keeps half of it), so a
    * pose is accepted (min_confidence 0.875) only with 35% of its pixels supported. Calibrated
-   * (doc/BENCHMARKS.md, "How much of a target must be seen"): from 0.5 to 0.4 the cluttered
-   * desks gain 7 right poses of 100 (mostly targets 30-50% visible) for 1 wrong one and no
-   * false pose on the absent twins, and no decision of the 160 identification cases changes;
-   * at 0.3 the false poses rise (14 -> 16 of 100). */
+   * (doc/experiments/2026-11-28-confidence-residual-and-evidence.md, "How much of a target must be
+   * seen"): from 0.5 to 0.4 the cluttered desks gain 7 right poses of 100 (mostly targets 30-50%
+   * visible) for 1 wrong one and no false pose on the absent twins, and no decision of the 160
+   * identification cases changes; at 0.3 the false poses rise (14 -> 16 of 100). */
   double full_evidence = 0.4;
   /** A right pose fits the measured depth about as closely as the sensor measures: its
    * DepthExplanation::residual (RMS offset in units of sigma(z)) is 0.57-0.86 on the simulated
@@ -81,8 +81,9 @@ struct DepthVerificationParams {
    * own distortion). A model laid on an object of another size or shape (a 5 cm can posed on
    * a 4.5 cm one) lies inside the support tolerance but 2-3 sigma off it. Up to fit_residual
    * the confidence does not depend on the residual; beyond, it falls linearly and reaches 0
-   * at max_residual (infinity: off). Calibrated on 360 cases (doc/BENCHMARKS.md, "How closely
-   * a pose fits"; 1.75 then), lowered to 1.5 with a search that found closer look-alikes
+   * at max_residual (infinity: off). Calibrated on 360 cases
+   * (doc/experiments/2026-11-28-confidence-residual-and-evidence.md, "How closely a pose
+   * fits"; 1.75 then), lowered to 1.5 with a search that found closer look-alikes
    * ("Hypotheses that are one pose"): a gelatin box posed on another box in a real frame
    * without it, residual 1.83, confidence 0.93, is refused at 1.5 and 1.6; no right pose is
    * lost, and 1.25 loses a real right pose. */
@@ -96,8 +97,9 @@ struct DepthVerificationParams {
    * 0.9-1.3) does not. fit_residual kExactMeshFit (0.8), max_residual twice that; everything
    * else as the defaults, which are for scanned meshes (YCB's, 1-3 mm off the object: right
    * poses up to 1.47). Calibrated on the clutter suite and the synthetic table tops
-   * (doc/BENCHMARKS.md, "An exact mesh fits closer": 0.7 refuses right poses, 0.9 keeps 6
-   * look-alikes of 100); on a scanned mesh these limits refuse right poses. */
+   * (doc/experiments/2026-11-29-clutter-hypotheses-exact-mesh-foam-brick.md, "An exact mesh fits
+   * closer": 0.7 refuses right poses, 0.9 keeps 6 look-alikes of 100); on a scanned mesh these
+   * limits refuse right poses. */
   static DepthVerificationParams forExactMesh();
   static constexpr double kExactMeshFit = 0.8;
 

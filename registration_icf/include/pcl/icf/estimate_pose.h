@@ -73,7 +73,8 @@ struct AcceptanceParams {
    * the measured depth lies behind it (PoseQuality::seen_through) must be at most this. A
    * partial view fitted onto the wrong side of a model can cover its points well (inliers,
    * rmse, coverage) while the model hides other points of the view behind it. 1 turns the
-   * check off. Calibrated on every bench suite (doc/BENCHMARKS.md, "Seen through"). */
+   * check off. Calibrated on every bench suite (doc/experiments/2026-11-27-seen-through.md, "Seen
+   * through"). */
   double max_seen_through = 0.05;
   /** Tolerances of that check (depth_verification.h: the sensor's noise at each depth and the
    * model's size). */
@@ -99,14 +100,16 @@ struct IcfParams {
    * as the global search left them: when it refuses every one, none is refined with exact
    * faces and the search's best is the start as it is (which the same check then refuses:
    * the cluster's search ends). Most clusters of a real scene are other objects, and their
-   * candidates' exact refinement was a quarter of a frame's time (doc/BENCHMARKS.md, "A budget
-   * per frame"). false: the candidates are always refined. */
+   * candidates' exact refinement was a quarter of a frame's time
+   * (doc/experiments/2026-11-28-real-frame-budget-and-time-bars.md, "A budget per frame"). false:
+   * the candidates are always refined. */
   bool check_candidates = true;
   /** Without a guess, the final refinement first runs on at most this many points (an evenly
    * strided subset) through the whole Tukey schedule, then on refinement.max_points from the
    * smallest radius (coarse to fine: a real cluster of 20-40k points costs 30 full-resolution
-   * iterations otherwise; doc/BENCHMARKS.md, "Where the time goes"). 0: one refinement at full
-   * resolution. With a guess the refinement is ICP's: one stage, as configured. */
+   * iterations otherwise; doc/experiments/2026-11-27-real-frame-time.md, "Where the time goes"). 0:
+   * one refinement at full resolution. With a guess the refinement is ICP's: one stage, as
+   * configured. */
   std::size_t coarse_points = 3000;
   /** At most this many full-resolution iterations after the coarse stage (a pose that fits
    * converges in 4-7 on real clusters; one that keeps moving is a misfit, and 30 more

@@ -62,10 +62,10 @@ struct LocalizerParams {
    * are other objects, whose confidence is 0 before and after it. 0: every start is refined.
    * Used as min(refine_min_confidence, min_confidence): a start never needs more than an
    * accepted pose, so min_confidence may be set below it (a calibration at 0).
-   * Calibrated (doc/BENCHMARKS.md, "Where the time goes"): at 0.01 every decision and pose of
-   * the 160 identification cases is the same as at 0, in 0.54-0.81x of the time; 0.1 is too
-   * much: it refuses a touching copy's start at 0.068 that the refinement makes acceptable
-   * (Localizer/TwoCopies). */
+   * Calibrated (doc/experiments/2026-11-27-real-frame-time.md, "Where the time goes"): at 0.01
+   * every decision and pose of the 160 identification cases is the same as at 0, in 0.54-0.81x of
+   * the time; 0.1 is too much: it refuses a touching copy's start at 0.068 that the refinement
+   * makes acceptable (Localizer/TwoCopies). */
   double refine_min_confidence = 0.01;
   /** Intrinsics of the camera, for an unorganized cloud (an organized one gives its own, fitted
    * to its points). Unset: a virtual camera at the cloud's point spacing. */
@@ -143,7 +143,8 @@ struct LocalizerParams {
    * millimetres off, and kExactMeshKeep search hypotheses per cluster. A verification that
    * refuses look-alikes affords more hypotheses: on the clutter suite, keep 24 adds 5 right
    * poses and no false one under these limits, but 5 false poses under the scanned-mesh
-   * limits, which is why the defaults keep 12 (doc/BENCHMARKS.md, "An exact mesh affords
+   * limits, which is why the defaults keep 12
+   * (doc/experiments/2026-11-29-clutter-hypotheses-exact-mesh-foam-brick.md, "An exact mesh affords
    * more hypotheses"). It overwrites icf.global.keep, verification.fit_residual and
    * verification.max_residual: set your own values of those after it. Everything else is left
    * as it is. */

@@ -100,10 +100,10 @@ struct TrackerParams {
   float reacquire_shift = 0.5f;
   /** The share of a re-acquired pose's rendered pixels that must be supported for full
    * evidence (DepthVerificationParams::full_evidence; 0.4 for a search without a prior): the
-   * object was seen there moments ago. Calibrated on 25 generated sequences (doc/BENCHMARKS.md,
-   * "Re-acquisition of a mostly hidden object"): 0.4 re-finds a box put back 28% visible after
-   * 6 frames, 0.35 after 4, 0.3 after 3 but with a pose 7 mm / 5.7 degrees off elsewhere; no
-   * value poses an absent object. */
+   * object was seen there moments ago. Calibrated on 25 generated sequences
+   * (doc/experiments/2026-11-29-tracking-reacquisition-hidden.md, "Re-acquisition of a mostly
+   * hidden object"): 0.4 re-finds a box put back 28% visible after 6 frames, 0.35 after 4, 0.3
+   * after 3 but with a pose 7 mm / 5.7 degrees off elsewhere; no value poses an absent object. */
   double reacquire_full_evidence = 0.35;
 
   /** \throws std::invalid_argument naming the field and value. */

@@ -11,6 +11,28 @@ function(pcl_icf_target_defaults target)
   endif()
 endfunction()
 
+# pcl_icf_add_library(ROOM SOURCES file... [PUBLIC dependency...] [PRIVATE dependency...])
+# One room's library: target pcl_icf_ROOM, exported and aliased as pcl_icf::ROOM; the room's
+# include/ folder public (installed under include/pcl_icf), internal/ (the helpers shared by the
+# libraries' sources, not installed) private; the project's warnings and sanitizers.
+function(pcl_icf_add_library room)
+  cmake_parse_arguments(PARSE_ARGV 1 ARG "" "" "SOURCES;PUBLIC;PRIVATE")
+  if(ARG_UNPARSED_ARGUMENTS OR NOT ARG_SOURCES)
+    message(FATAL_ERROR "pcl_icf_add_library(${room}): SOURCES expected, "
+                        "got '${ARG_UNPARSED_ARGUMENTS}'")
+  endif()
+  set(target pcl_icf_${room})
+  add_library(${target} ${ARG_SOURCES})
+  add_library(pcl_icf::${room} ALIAS ${target})
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${room})
+  target_include_directories(${target}
+    PUBLIC $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include> $<INSTALL_INTERFACE:include/pcl_icf>
+    PRIVATE ${PROJECT_SOURCE_DIR}/internal)
+  target_link_libraries(${target} PUBLIC ${ARG_PUBLIC} PRIVATE ${ARG_PRIVATE})
+  pcl_icf_target_defaults(${target})
+  install(DIRECTORY include/ DESTINATION include/pcl_icf)
+endfunction()
+
 # PCL 1.13 has no imported targets: wrap its variables in one interface target.
 add_library(pcl_icf_pcl_deps INTERFACE)
 target_include_directories(pcl_icf_pcl_deps SYSTEM INTERFACE ${PCL_INCLUDE_DIRS})

@@ -53,6 +53,25 @@ RenderedBox renderBox(const synthetic::ScanNoise& noise, double tilt = 0.6) {
   return r;
 }
 
+/** The box's Kinect-like scan (noise seed 7), its model and the right pose's explanation. */
+struct JudgedBox {
+  synthetic::ScanNoise noise;
+  RenderedBox box;
+  IcfModel::ConstPtr model;
+  DepthImage image;
+  DepthExplanation right;
+};
+
+JudgedBox judgeNoisyBox() {
+  JudgedBox j;
+  j.noise.seed = 7;
+  j.box = renderBox(j.noise);
+  j.model = IcfModel::build(j.box.model.mesh);
+  j.image = DepthImage(j.box.points, PinholeIntrinsics());
+  j.right = explainDepth(*j.model, j.box.pose.cast<float>(), j.image);
+  return j;
+}
+
 // The simulator's camera is an exact pinhole: the least-squares fit recovers it to float
 // rounding (1e-3 pixel on a 640-pixel image).
 TEST(DepthImage, FitsTheIntrinsicsOfAnOrganizedCloud) {
@@ -102,12 +121,7 @@ TEST(DepthVerification, RendersWhatTheRayCasterSees) {
 // face carries on past its silhouette (on the model's surface extended) around much of it:
 // continuation above max_continuation (0.2), confidence 0.
 TEST(DepthVerification, TellsARightPoseFromWrongOnes) {
-  synthetic::ScanNoise noise;
-  noise.seed = 7;
-  const RenderedBox box = renderBox(noise);
-  const IcfModel::ConstPtr model = IcfModel::build(box.model.mesh);
-  const DepthImage image(box.points, PinholeIntrinsics());
-  const DepthExplanation right = explainDepth(*model, box.pose.cast<float>(), image);
+  const auto& [noise, box, model, image, right] = judgeNoisyBox();
   EXPECT_GT(right.supported, 0.85);
   EXPECT_GT(right.isolated_conflicts, 0.005);
   EXPECT_LT(right.seen_through, 0.005);
@@ -201,12 +215,7 @@ DepthImage scanOfBox(double sx, double sy, double sz, const Eigen::Isometry3d& p
 // 1 - (3 - 1.75) / 1.75 = 0.29). The right pose on the box's own scan keeps residual < 1
 // (the noise, truncated at the tolerance) and the factor 1.
 TEST(DepthVerification, ALargerLookAlikeFitsWithinToleranceButNotWithinTheNoise) {
-  synthetic::ScanNoise noise;
-  noise.seed = 7;
-  const RenderedBox box = renderBox(noise);
-  const IcfModel::ConstPtr model = IcfModel::build(box.model.mesh);
-  const DepthImage own_image(box.points, PinholeIntrinsics());
-  const DepthExplanation right = explainDepth(*model, box.pose.cast<float>(), own_image);
+  const auto& [noise, box, model, own_image, right] = judgeNoisyBox();
   EXPECT_LT(right.residual, 1.0);
   DepthVerificationParams off;
   off.max_residual = std::numeric_limits<double>::infinity();

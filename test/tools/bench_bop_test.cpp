@@ -108,6 +108,34 @@ TEST_F(BenchBop, BadDatasetsExitTwo) {
   EXPECT_EQ(run("--bop " + root + " --frobnicate"), 2);
 }
 
+// The peer selection (--selection ghv): PCL's Global Hypotheses Verification over the same
+// hypotheses writes its own CSV (BOP's method name pcl-icf-ghv), at most inst_count rows per
+// target, and is scored as the default one; an unknown selection is a usage error.
+TEST_F(BenchBop, GhvSelectionWritesThePeersCsv) {
+  PCL_ICF_REQUIRE_SHARED(root, "bop-ycbv");
+  const std::string targets =
+      write("targets.json",
+            "[{\"im_id\": 2, \"inst_count\": 1, \"obj_id\": 8, \"scene_id\": 0},\n"
+            " {\"im_id\": 2, \"inst_count\": 1, \"obj_id\": 21, \"scene_id\": 0}]");
+  const std::string common = "--bop " + root + " --targets " + targets + " --out " + dir_.string();
+  ASSERT_EQ(run(common + " --selection ghv"), 0) << slurp("err.txt");
+  EXPECT_FALSE(fs::exists(dir_ / "pcl-icf_bop-ycbv-test.csv"));
+  std::ifstream csv(dir_ / "pcl-icf-ghv_bop-ycbv-test.csv");
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "scene_id,im_id,obj_id,score,R,t,time");
+  std::map<std::string, int> per_object;
+  while (std::getline(csv, line))
+    ++per_object[line.substr(0, line.find(',', line.find(',', line.find(',') + 1) + 1))];
+  for (const auto& [object, rows] : per_object)
+    EXPECT_EQ(rows, 1) << object << ": at most inst_count per target";
+  EXPECT_NE(slurp("bop_scores.md").find("| all | 2 |"), std::string::npos)
+      << slurp("bop_scores.md");
+  EXPECT_EQ(run(common + " --selection best"), 2);
+  EXPECT_NE(slurp("err.txt").find("--selection: icf or ghv"), std::string::npos)
+      << slurp("err.txt");
+}
+
 /** The CSV's rows without their time column (times differ between any two runs). */
 std::vector<std::string> rowsWithoutTimes(const fs::path& csv) {
   std::ifstream in(csv);

@@ -331,14 +331,19 @@ t::TabletopScene drawTabletop(const std::vector<t::SyntheticModel>& objects, std
   }
 }
 
-/** A thesis scenario: the target (objects[0]) and its neighbours; the cluster is the target's
- * own pixels. */
-Case makeTabletop(const std::vector<t::SyntheticModel>& objects, std::uint64_t seed) {
+/** The target (objects[0]) among its neighbours (and, for "present", its look-alike) on a
+ * table top: "tabletop" (a thesis scenario) keeps the target's own pixels as the cluster,
+ * "present" the whole frame. */
+Case makeTabletop(const std::vector<t::SyntheticModel>& objects, std::uint64_t seed,
+                  bool whole_frame) {
   const t::TabletopScene scene = drawTabletop(objects, seed);
   Case c;
   c.model = objects[0].name;
   c.truth = scene.poses[0];
-  c.cluster = t::extractLabelCloud(scene.scan, 1);
+  if (whole_frame)
+    c.scene = scene.scan.cloud;
+  else
+    c.cluster = t::extractLabelCloud(scene.scan, 1);
   return c;
 }
 
@@ -352,24 +357,12 @@ Case makeAbsent(const std::string& target, const std::vector<t::SyntheticModel>&
   return c;
 }
 
-/** The target (objects[0]) with its look-alike and the neighbours, the whole frame. */
-Case makePresent(const std::vector<t::SyntheticModel>& objects, std::uint64_t seed) {
-  const t::TabletopScene scene = drawTabletop(objects, seed);
-  Case c;
-  c.model = objects[0].name;
-  c.truth = scene.poses[0];
-  c.scene = scene.scan.cloud;
-  return c;
-}
-
 Case makeCase(const Options& opt, const Group& g, const std::vector<t::SyntheticModel>& objects,
               std::uint64_t seed) {
   if (opt.kind == "views")
     return makeView(objects[0], seed);
-  if (opt.kind == "tabletop")
-    return makeTabletop(objects, seed);
-  if (opt.kind == "present")
-    return makePresent(objects, seed);
+  if (opt.kind == "tabletop" || opt.kind == "present")
+    return makeTabletop(objects, seed, opt.kind == "present");
   return makeAbsent(g.target, objects, seed);
 }
 

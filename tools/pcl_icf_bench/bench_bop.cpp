@@ -10,6 +10,7 @@
 #include "bop_results.h"
 #include "bop_scores.h"
 #include "common/arguments.h"
+#include "ghv_selection.h"
 
 #include <pcl/icf/io/mesh_io.h>
 #include <pcl/icf/localization/objects_localizer.h>
@@ -38,6 +39,9 @@ struct BopOptions {
   unsigned seed = 1;
   BopShard shard;      ///< --shard, or the environment's (Open MPI, Slurm)
   bool merge = false;  ///< --merge: join the shards in out_dir and score them
+  /** --selection: which hypotheses are the frame's objects: localizeObjects's own selection
+   * ("icf"), or PCL's Global Hypotheses Verification over the same hypotheses ("ghv"). */
+  std::string selection = "icf";
   BopScoreParams scores;
 };
 
@@ -68,7 +72,11 @@ BopOptions parseBopOptions(int argc, char** argv) {
       o.shard = parseShard(args.value(a));
     else if (a == "--merge")
       o.merge = true;
-    else
+    else if (a == "--selection") {
+      o.selection = args.value(a);
+      if (o.selection != "icf" && o.selection != "ghv")
+        throw UsageError("--selection: icf or ghv, not '" + o.selection + "'");
+    } else
       throw UsageError("--bop: unknown option " + a);
   }
   if (o.root.empty())
@@ -106,10 +114,16 @@ std::vector<BopEstimate> localizeImages(BopBenchData& data, const BopOptions& o)
           {data.objects().at(t.obj_id).model, "obj_" + std::to_string(t.obj_id), t.inst_count});
     const auto start = std::chrono::steady_clock::now();
     const auto found = pcl::icf::localization::localizeObjects(*cloud, queries, params);
+    std::vector<std::vector<int>> kept;
+    if (o.selection == "ghv")
+      kept = ghvSelect(*cloud, found, queries);
+    else
+      for (const auto& object : found.objects)
+        kept.push_back(object.instances);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     for (std::size_t k = 0; k < targets.size(); ++k)
-      for (const int h : found.objects[k].instances) {
+      for (const int h : kept[k]) {
         const auto& c = found.objects[k].clusters[static_cast<std::size_t>(h)];
         BopEstimate e;
         e.scene_id = image.first;
@@ -163,7 +177,8 @@ int runBop(int argc, char** argv) {
     BopBenchData data(o.root, o.split, o.targets, o.models);
     fs::create_directories(o.out_dir);
     // BOP's name: METHOD_DATASET-SPLIT.csv.
-    const std::string base = "pcl-icf_" + data.name() + "-" + o.split;
+    const std::string method = o.selection == "ghv" ? "pcl-icf-ghv" : "pcl-icf";
+    const std::string base = method + "_" + data.name() + "-" + o.split;
     const fs::path csv = o.out_dir / (base + ".csv");
     const std::string key = bopRunKey(data.name(), o.split, o.targets, o.seed);
     if (o.merge) {

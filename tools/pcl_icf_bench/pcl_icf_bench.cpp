@@ -168,6 +168,7 @@ int usage(const char* program) {
                "          [--scene-min-confidence C] [--ppf-sampling S] MANIFEST...\n"
                "       %s --bop ROOT [--split S] [--targets FILE] [--out DIR] [--threads N]\n"
                "          [--models DIR] [--seed S] [--vsd-delta MM] [--shard K/N | --merge]\n"
+               "          [--selection icf|ghv]\n"
                "Methods (default: all but icf-scene):",
                program, program);
   for (const auto& m : clusterMethods())

@@ -20,10 +20,7 @@
 #include <memory>
 #include <string>
 
-namespace pcl {
-namespace icf {
-namespace segmentation {
-namespace detail {
+namespace pcl::icf::segmentation::detail {
 
 /** A shared pointer that does not own \a cloud: PCL's algorithms take ConstPtr, our stages take
  * a const reference valid for the duration of the call, so no copy is made. */
@@ -133,7 +130,4 @@ class Stopwatch {
   std::chrono::steady_clock::time_point start_;
 };
 
-}  // namespace detail
-}  // namespace segmentation
-}  // namespace icf
-}  // namespace pcl
+}  // namespace pcl::icf::segmentation::detail

@@ -19,10 +19,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace pcl {
-namespace icf {
-namespace segmentation {
-namespace detail {
+namespace pcl::icf::segmentation::detail {
 
 /** pcl::SampleConsensusModelPlane whose sample generator is seeded by the caller. The base
  * constructor seeds the protected boost::mt19937 `rng_alg_` with 12345 (or the clock); reseeding
@@ -45,10 +42,7 @@ class CountingRansac : public pcl::RandomSampleConsensus<PointT> {
   int hypotheses() const { return this->iterations_; }
 };
 
-}  // namespace detail
-}  // namespace segmentation
-}  // namespace icf
-}  // namespace pcl
+}  // namespace pcl::icf::segmentation::detail
 
 template <typename PointT>
 pcl::icf::segmentation::TablePlane pcl::icf::segmentation::findTablePlane(

@@ -24,10 +24,7 @@
 #include <utility>
 #include <vector>
 
-namespace pcl {
-namespace icf {
-namespace segmentation {
-namespace detail {
+namespace pcl::icf::segmentation::detail {
 
 /** Median distance between horizontally adjacent finite pixels of an organized cloud, over every
  * fourth row; 0 when the cloud is not organized or has no such pair. */
@@ -181,10 +178,7 @@ std::optional<Stop> selectAboveTable(const pcl::PointCloud<PointT>& cloud,
   return std::nullopt;
 }
 
-}  // namespace detail
-}  // namespace segmentation
-}  // namespace icf
-}  // namespace pcl
+}  // namespace pcl::icf::segmentation::detail
 
 template <typename PointT>
 pcl::icf::segmentation::TabletopSegmentation pcl::icf::segmentation::segmentTabletop(

@@ -21,10 +21,7 @@
 #include <limits>
 #include <memory>
 
-namespace pcl {
-namespace icf {
-namespace segmentation {
-namespace detail {
+namespace pcl::icf::segmentation::detail {
 
 /** True when pcl::VoxelGrid could index the voxels of cloud[indices] with \a leaf: PCL 1.13
  * refuses more than INT32_MAX cells by returning its whole input cloud (NaN and unindexed
@@ -40,10 +37,7 @@ bool voxelGridFits(const pcl::PointCloud<PointT>& cloud, const pcl::Indices& ind
   return cells <= static_cast<double>(std::numeric_limits<std::int32_t>::max());
 }
 
-}  // namespace detail
-}  // namespace segmentation
-}  // namespace icf
-}  // namespace pcl
+}  // namespace pcl::icf::segmentation::detail
 
 template <typename PointT>
 pcl::PointCloud<PointT> pcl::icf::segmentation::voxelDownsample(

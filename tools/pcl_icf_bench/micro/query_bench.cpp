@@ -63,58 +63,50 @@ Model& model(const std::string& name) {
   return cache.emplace(name, std::move(m)).first->second;
 }
 
-void exactQueries(benchmark::State& state, const std::string& name, float radius) {
+/** The model \a name, or null (the benchmark skipped) when its mesh is not in ../shared/data. */
+Model* modelOrSkip(benchmark::State& state, const std::string& name) {
   Model& m = model(name);
-  if (!m.mesh) {
-    state.SkipWithError("mesh missing from ../shared/data");
-    return;
-  }
+  if (m.mesh)
+    return &m;
+  state.SkipWithError("mesh missing from ../shared/data");
+  return nullptr;
+}
+
+/** Times \a query on the model's surface-near points in turn, one point per iteration. */
+template <typename Query>
+void eachQuery(benchmark::State& state, const Model& m, Query query) {
   std::size_t i = 0;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(m.index->closestFace(m.queries[i], radius));
+    benchmark::DoNotOptimize(query(m.queries[i]));
     i = (i + 1) & (m.queries.size() - 1);
   }
   state.SetItemsProcessed(state.iterations());
-  state.counters["faces"] = static_cast<double>(m.mesh->size());
+}
+
+void exactQueries(benchmark::State& state, const std::string& name, float radius) {
+  if (Model* m = modelOrSkip(state, name)) {
+    eachQuery(state, *m,
+              [&](const Eigen::Vector3f& q) { return m->index->closestFace(q, radius); });
+    state.counters["faces"] = static_cast<double>(m->mesh->size());
+  }
 }
 
 void bruteQueries(benchmark::State& state, const std::string& name) {
-  Model& m = model(name);
-  if (!m.mesh) {
-    state.SkipWithError("mesh missing from ../shared/data");
-    return;
-  }
-  std::size_t i = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(m.brute->closestFace(m.queries[i], 0.01f));
-    i = (i + 1) & (m.queries.size() - 1);
-  }
-  state.SetItemsProcessed(state.iterations());
+  if (Model* m = modelOrSkip(state, name))
+    eachQuery(state, *m, [&](const Eigen::Vector3f& q) { return m->brute->closestFace(q, 0.01f); });
 }
 
 void fieldLookups(benchmark::State& state, const std::string& name) {
-  Model& m = model(name);
-  if (!m.mesh) {
-    state.SkipWithError("mesh missing from ../shared/data");
-    return;
+  if (Model* m = modelOrSkip(state, name)) {
+    eachQuery(state, *m, [&](const Eigen::Vector3f& q) { return m->field->distance(q); });
+    state.counters["cell_mm"] = 1e3 * m->field->cellSize();
   }
-  std::size_t i = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(m.field->distance(m.queries[i]));
-    i = (i + 1) & (m.queries.size() - 1);
-  }
-  state.SetItemsProcessed(state.iterations());
-  state.counters["cell_mm"] = 1e3 * m.field->cellSize();
 }
 
 void fieldBuild(benchmark::State& state, const std::string& name) {
-  Model& m = model(name);
-  if (!m.mesh) {
-    state.SkipWithError("mesh missing from ../shared/data");
-    return;
-  }
-  for (auto _ : state)
-    benchmark::DoNotOptimize(ClosestPointField(*m.index));
+  if (Model* m = modelOrSkip(state, name))
+    for (auto _ : state)
+      benchmark::DoNotOptimize(ClosestPointField(*m->index));
 }
 
 const float kInf = std::numeric_limits<float>::infinity();

@@ -6,6 +6,8 @@
 // hypotheses localizeObjects judged, as posed point clouds of the models.
 #include "ghv_selection.h"
 
+#include <pcl/common/io.h>
+#include <pcl/common/transforms.h>
 #include <pcl/icf/depth_image.h>
 #include <pcl/icf/face_mesh.h>
 #include <pcl/recognition/hv/hv_go.h>
@@ -16,6 +18,8 @@
 #include <limits>
 #include <numeric>
 #include <set>
+#include <stdexcept>
+#include <string>
 
 namespace pcl_icf_bench {
 
@@ -46,7 +50,7 @@ std::vector<pcl::icf::SurfaceSample> modelSamples(const pcl::icf::IcfModel& mode
  * hides nothing), with the frame's own intrinsics. A hypothesis none of whose points is seen
  * is not given to GHV. */
 Cloud::Ptr visiblePart(const std::vector<pcl::icf::SurfaceSample>& samples,
-                       const Eigen::Matrix4f& pose, const pcl::PointCloud<pcl::PointXYZRGBA>& scene,
+                       const Eigen::Matrix4f& pose, const Cloud& scene,
                        const pcl::icf::PinholeIntrinsics& k, float occlusion_threshold) {
   auto cloud = pcl::make_shared<Cloud>();
   const Eigen::Matrix3f rotation = pose.topLeftCorner<3, 3>();
@@ -68,9 +72,9 @@ Cloud::Ptr visiblePart(const std::vector<pcl::icf::SurfaceSample>& samples,
 }
 
 /** The frame's finite points (\a only, when not empty). */
-Cloud::Ptr finitePoints(const pcl::PointCloud<pcl::PointXYZRGBA>& scene, const pcl::Indices& only) {
+Cloud::Ptr finitePoints(const Cloud& scene, const pcl::Indices& only) {
   auto cloud = pcl::make_shared<Cloud>();
-  auto add = [&](const pcl::PointXYZRGBA& p) {
+  auto add = [&](const pcl::PointXYZ& p) {
     if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
       cloud->push_back(pcl::PointXYZ(p.x, p.y, p.z));
   };
@@ -84,7 +88,7 @@ Cloud::Ptr finitePoints(const pcl::PointCloud<pcl::PointXYZRGBA>& scene, const p
 }
 
 /** The organized frame's points, NaN where a pixel has no depth (fitIntrinsics's input). */
-std::vector<Eigen::Vector3f> organizedPoints(const pcl::PointCloud<pcl::PointXYZRGBA>& scene) {
+std::vector<Eigen::Vector3f> organizedPoints(const Cloud& scene) {
   std::vector<Eigen::Vector3f> points;
   points.reserve(scene.size());
   for (const auto& p : scene)
@@ -98,7 +102,7 @@ std::vector<Eigen::Vector3f> organizedPoints(const pcl::PointCloud<pcl::PointXYZ
  * then lands where the frame's surface is. (Its other path, an unorganized cloud, kept no
  * model point on these frames; addModels without occlusion reasoning sets no complete models
  * and verify() then fails.) */
-pcl::PointCloud<pcl::PointXYZ>::Ptr asKinectView(const pcl::PointCloud<pcl::PointXYZRGBA>& scene) {
+Cloud::Ptr asKinectView(const Cloud& scene) {
   constexpr int kWidth = 640, kHeight = 480;
   constexpr float kFocal = 525.f, kCx = kWidth / 2.f - 0.5f, kCy = kHeight / 2.f - 0.5f;
   const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -157,16 +161,28 @@ std::vector<std::vector<int>> ghvSelect(const pcl::PointCloud<pcl::PointXYZRGBA>
   const std::vector<Candidate> hypotheses = candidates(found, params.per_object);
   if (hypotheses.empty())
     return kept;
+  // Everything GHV is given is in the camera's frame (its occlusion reasoning puts the camera
+  // at the origin); the frame stays organized, pixel for pixel.
+  Cloud camera_view;
+  pcl::copyPointCloud(scene, camera_view);
+  const Eigen::Affine3f to_camera(found.camera_pose.inverse().matrix());
+  pcl::transformPointCloud(camera_view, camera_view, to_camera);
   const bool table = found.segmentation.plane.found() && !found.segmentation.above_table.empty();
   const Cloud::Ptr explained =
-      finitePoints(scene, table ? found.segmentation.above_table : pcl::Indices{});
+      finitePoints(camera_view, table ? found.segmentation.above_table : pcl::Indices{});
   if (explained->empty())
     return kept;
 
-  // The frame's camera: the organized cloud's own pixel grid (the scene frame is the camera's).
+  // The frame's camera: the organized cloud's own pixel grid.
   double rms = 0.0;
   const pcl::icf::PinholeIntrinsics k = pcl::icf::DepthImage::fitIntrinsics(
-      organizedPoints(scene), static_cast<int>(scene.width), static_cast<int>(scene.height), rms);
+      organizedPoints(camera_view), static_cast<int>(scene.width), static_cast<int>(scene.height),
+      rms);
+  if (!(rms <= 0.5))
+    throw std::invalid_argument(
+        "--selection ghv: the frame is not one pinhole camera's image "
+        "(its pixels fit one to " +
+        std::to_string(rms) + " px)");
   std::vector<std::vector<pcl::icf::SurfaceSample>> samples(queries.size());
   std::vector<Cloud::ConstPtr> posed;
   std::vector<Candidate> seen;
@@ -177,7 +193,8 @@ std::vector<std::vector<int>> ghvSelect(const pcl::PointCloud<pcl::PointXYZRGBA>
     const auto& pose =
         found.objects[c.object].clusters[static_cast<std::size_t>(c.hypothesis)].icf.object_pose;
     const Eigen::Matrix4f in_camera = found.camera_pose.inverse() * pose;
-    if (visiblePart(samples[c.object], in_camera, scene, k, params.occlusion_threshold)->empty())
+    if (visiblePart(samples[c.object], in_camera, camera_view, k, params.occlusion_threshold)
+            ->empty())
       continue;  // nothing of it would be seen: GHV would refuse it (and fails on none at all)
     auto whole = pcl::make_shared<Cloud>();
     for (const auto& sample : samples[c.object]) {
@@ -200,7 +217,7 @@ std::vector<std::vector<int>> ghvSelect(const pcl::PointCloud<pcl::PointXYZRGBA>
   ghv.setClutterRegularizer(params.clutter_regularizer);
   ghv.setDetectClutter(true);
   ghv.setSceneCloud(explained);
-  ghv.setOcclusionCloud(asKinectView(scene));
+  ghv.setOcclusionCloud(asKinectView(camera_view));
   ghv.addModels(posed, true);
   ghv.verify();
   std::vector<bool> mask;

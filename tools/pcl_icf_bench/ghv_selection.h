@@ -7,7 +7,9 @@
 /** \file
  * \brief The peer of localizeObjects's selection: PCL's Global Hypotheses Verification
  * (Aldoma et al. 2012, pcl::GlobalHypothesesVerification) choosing among the same judged
- * hypotheses which objects are in the frame (pcl_icf_bench --bop --selection ghv). */
+ * hypotheses which objects are in the frame (pcl_icf_bench --bop --selection ghv). Not
+ * deterministic: PCL 1.13's GHV shuffles its annealing moves with std::random_device, which no
+ * seed reaches; the bench's figures are over several runs. */
 
 #include <pcl/icf/localization/objects_localizer.h>
 #include <pcl/point_cloud.h>

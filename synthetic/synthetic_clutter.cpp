@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -168,10 +169,68 @@ std::vector<Placed> drawLayout(const SyntheticModel& target,
   return placed;
 }
 
-Eigen::Isometry3d modelToDesk(const Placed& p) {
-  Eigen::Isometry3d pose = standOnTable(p.model->mesh, Eigen::Vector3d(p.xy.x(), p.xy.y(), p.yaw));
-  pose.translation().z() += p.base;
+DeskObject deskObject(const Placed& p) {
+  return {p.model, p.xy.x(), p.xy.y(), p.yaw, p.base, p.stacked, p.background};
+}
+
+Eigen::Isometry3d modelToDesk(const DeskObject& o) {
+  Eigen::Isometry3d pose = standOnTable(o.model->mesh, Eigen::Vector3d(o.x, o.y, o.yaw));
+  pose.translation().z() += o.base;
   return pose;
+}
+
+/** The desk and the shelf behind its far edge. */
+struct Furniture {
+  pcl::PolygonMesh desk = makePlane(2 * kDeskX, 2 * kDeskY);
+  pcl::PolygonMesh shelf = makePlane(2 * kDeskX, 2 * kShelfHalfDepth);
+};
+
+/** Renders scene.layout seen from scene.view into scene.present and measures the target's
+ * visible share. Returns what was rendered: the desk, the shelf, then the layout's objects. */
+std::vector<SceneObject> renderPresent(ClutterScene& scene, const Furniture& furniture,
+                                       const CameraIntrinsics& intrinsics) {
+  const Eigen::Isometry3d desk_to_camera =
+      tableToCamera(scene.view.camera_height, scene.view.camera_tilt);
+  const Eigen::Vector3d normal = desk_to_camera.linear() * Eigen::Vector3d::UnitZ();
+  scene.desk_plane =
+      Eigen::Vector4d(normal.x(), normal.y(), normal.z(), -normal.dot(desk_to_camera.translation()))
+          .cast<float>();
+  std::vector<SceneObject> objects(2);
+  objects[0].mesh = &furniture.desk;
+  objects[0].pose = desk_to_camera;
+  objects[0].rgb = Eigen::Vector3f(0.60f, 0.55f, 0.50f);
+  objects[0].label = 0;
+  objects[1].mesh = &furniture.shelf;
+  objects[1].pose = desk_to_camera * Eigen::Translation3d(0.0, kShelfY, kShelfHeight);
+  objects[1].rgb = Eigen::Vector3f(0.45f, 0.40f, 0.35f);
+  objects[1].label = -2;
+  for (std::size_t i = 0; i < scene.layout.size(); ++i) {
+    const DeskObject& d = scene.layout[i];
+    SceneObject o;
+    o.mesh = &d.model->mesh;
+    o.pose = desk_to_camera * modelToDesk(d);
+    o.rgb = d.model->rgb;
+    o.label = static_cast<int>(i) + 1;
+    objects.push_back(o);
+    scene.names.push_back(d.model->name);
+    scene.poses.push_back(o.pose);
+    scene.stacked.push_back(d.stacked);
+    scene.background.push_back(d.background);
+  }
+  scene.present = renderScan(objects, intrinsics, scene.view.noise);
+  scene.target_visible = visibleShare(scene.present, 1, objects[2], intrinsics);
+  return objects;
+}
+
+/** The rest of the frame after renderPresent: the target's share in view, the twin without the
+ * target (\a objects as renderPresent returned them) and both frames' edge artefacts. */
+void renderAbsent(ClutterScene& scene, std::vector<SceneObject> objects,
+                  const CameraIntrinsics& intrinsics) {
+  scene.target_in_view = inViewShare(objects[2], intrinsics);
+  objects.erase(objects.begin() + 2);
+  scene.absent = renderScan(objects, intrinsics, scene.view.noise);
+  addEdgeArtefacts(scene.present, scene.view.edges);
+  addEdgeArtefacts(scene.absent, scene.view.edges);
 }
 
 void validate(const ClutterSpec& spec, const std::vector<SyntheticModel>& distractors) {
@@ -195,59 +254,45 @@ ClutterScene makeClutterScene(const SyntheticModel& target,
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> height(spec.camera_min_height, spec.camera_max_height),
       tilt(spec.camera_min_tilt, spec.camera_max_tilt);
-  const pcl::PolygonMesh desk = makePlane(2 * kDeskX, 2 * kDeskY);
-  const pcl::PolygonMesh shelf = makePlane(2 * kDeskX, 2 * kShelfHalfDepth);
+  const Furniture furniture;
   for (int draw = 0; draw < 5000; ++draw) {
     const std::vector<Placed> layout = drawLayout(target, distractors, spec, rng);
-    const double h = height(rng), a = tilt(rng);
-    ScanNoise noise = spec.noise;
-    noise.seed = rng();
-    EdgeArtefacts edges = spec.edges;
-    edges.seed = rng();
+    ClutterScene scene;
+    scene.view.camera_height = height(rng);
+    scene.view.camera_tilt = tilt(rng);
+    scene.view.noise = spec.noise;
+    scene.view.noise.seed = rng();
+    scene.view.edges = spec.edges;
+    scene.view.edges.seed = rng();
     if (layout.empty())
       continue;
-    ClutterScene scene;
-    const Eigen::Isometry3d desk_to_camera = tableToCamera(h, a);
-    const Eigen::Vector3d normal = desk_to_camera.linear() * Eigen::Vector3d::UnitZ();
-    scene.desk_plane = Eigen::Vector4d(normal.x(), normal.y(), normal.z(),
-                                       -normal.dot(desk_to_camera.translation()))
-                           .cast<float>();
-    std::vector<SceneObject> objects(2);
-    objects[0].mesh = &desk;
-    objects[0].pose = desk_to_camera;
-    objects[0].rgb = Eigen::Vector3f(0.60f, 0.55f, 0.50f);
-    objects[0].label = 0;
-    objects[1].mesh = &shelf;
-    objects[1].pose = desk_to_camera * Eigen::Translation3d(0.0, kShelfY, kShelfHeight);
-    objects[1].rgb = Eigen::Vector3f(0.45f, 0.40f, 0.35f);
-    objects[1].label = -2;
-    for (std::size_t i = 0; i < layout.size(); ++i) {
-      SceneObject o;
-      o.mesh = &layout[i].model->mesh;
-      o.pose = desk_to_camera * modelToDesk(layout[i]);
-      o.rgb = layout[i].model->rgb;
-      o.label = static_cast<int>(i) + 1;
-      objects.push_back(o);
-      scene.names.push_back(layout[i].model->name);
-      scene.poses.push_back(o.pose);
-      scene.stacked.push_back(layout[i].stacked);
-      scene.background.push_back(layout[i].background);
-    }
-    scene.present = renderScan(objects, intrinsics, noise);
-    scene.target_visible = visibleShare(scene.present, 1, objects[2], intrinsics);
+    std::transform(layout.begin(), layout.end(), std::back_inserter(scene.layout), deskObject);
+    std::vector<SceneObject> objects = renderPresent(scene, furniture, intrinsics);
     if (scene.target_visible < spec.min_target_visible ||
         scene.target_visible > spec.max_target_visible)
       continue;
-    scene.target_in_view = inViewShare(objects[2], intrinsics);
-    objects.erase(objects.begin() + 2);
-    scene.absent = renderScan(objects, intrinsics, noise);
-    addEdgeArtefacts(scene.present, edges);
-    addEdgeArtefacts(scene.absent, edges);
+    renderAbsent(scene, std::move(objects), intrinsics);
     return scene;
   }
   throw std::runtime_error("makeClutterScene: 5000 draws missed the target's visible share [" +
                            std::to_string(spec.min_target_visible) + ", " +
                            std::to_string(spec.max_target_visible) + "]");
+}
+
+ClutterScene renderClutterDesk(const std::vector<DeskObject>& layout, const DeskView& view,
+                               const CameraIntrinsics& intrinsics) {
+  if (layout.empty())
+    throw std::invalid_argument("renderClutterDesk: an empty layout (layout[0] is the target)");
+  for (std::size_t i = 0; i < layout.size(); ++i)
+    if (!layout[i].model)
+      throw std::invalid_argument("renderClutterDesk: object " + std::to_string(i) +
+                                  " has no model");
+  ClutterScene scene;
+  scene.layout = layout;
+  scene.view = view;
+  const Furniture furniture;
+  renderAbsent(scene, renderPresent(scene, furniture, intrinsics), intrinsics);
+  return scene;
 }
 
 }  // namespace synthetic

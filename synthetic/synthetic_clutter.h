@@ -47,6 +47,24 @@ struct ClutterSpec {
   EdgeArtefacts edges;                                      ///< seed drawn per scene
 };
 
+/** \brief One object of a desk: its model and where it stands, in the desk frame. */
+struct DeskObject {
+  const SyntheticModel* model = nullptr;
+  double x = 0.0, y = 0.0;  ///< its footprint's centre on the surface it stands on (metres)
+  double yaw = 0.0;         ///< about the desk's z (radians)
+  double base = 0.0;        ///< height of that surface: 0 the desk, a box's top, the shelf
+  bool stacked = false;     ///< standing on a box
+  bool background = false;  ///< on the shelf behind the desk
+};
+
+/** \brief The camera above a desk and the seeds of its frame's noise. */
+struct DeskView {
+  double camera_height = 0.65;  ///< above the desk (metres)
+  double camera_tilt = 45.0;    ///< degrees below the horizontal
+  ScanNoise noise;
+  EdgeArtefacts edges;
+};
+
 /** \brief One cluttered frame and its twin without the target. */
 struct ClutterScene {
   Scan present;  ///< labels: 0 desk, -2 shelf, i + 1 for objects[i], -1 nothing hit
@@ -64,6 +82,9 @@ struct ClutterScene {
   double target_in_view = 1.0;
   double wholeTargetVisible() const { return target_visible * target_in_view; }
   Eigen::Vector4f desk_plane = Eigen::Vector4f::Zero();  ///< as TabletopScene::table_plane
+  std::vector<DeskObject>
+      layout;     ///< what was drawn (layout[0] the target): renderClutterDesk's input
+  DeskView view;  ///< with layout, all renderClutterDesk needs for this scene
 };
 
 /** \brief Draws a cluttered desk around \a target from \a distractors (drawn with repetition;
@@ -75,6 +96,13 @@ ClutterScene makeClutterScene(const SyntheticModel& target,
                               const std::vector<SyntheticModel>& distractors, std::uint64_t seed,
                               const ClutterSpec& spec = {},
                               const CameraIntrinsics& intrinsics = {});
+
+/** \brief The frame of a desk laid out by hand (\a layout[0] is the target), rendered as
+ * makeClutterScene renders the layouts it draws: a test's desk written as numbers does not
+ * depend on the floating-point rounding of the draws. target_visible is measured, not required.
+ * \throws std::invalid_argument for an empty layout or an object without a model. */
+ClutterScene renderClutterDesk(const std::vector<DeskObject>& layout, const DeskView& view,
+                               const CameraIntrinsics& intrinsics = {});
 
 }  // namespace synthetic
 }  // namespace icf

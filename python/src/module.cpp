@@ -319,14 +319,13 @@ py::object estimatePose(const py::array& cluster_xyz, const Model& model, const 
       throw py::value_error("camera: expected the camera's position (x, y, z), finite");
     camera_position = Eigen::Vector3d(c[0], c[1], c[2]).cast<float>();
   }
-  std::optional<Eigen::Isometry3f> scene_to_model;
+  pcl::icf::PoseEstimateOptions options;
   if (!guess.is_none())
-    scene_to_model = rigidPose(guess, "guess").inverse();
+    options.guess = rigidPose(guess, "guess").inverse();
   pcl::icf::IcfResult r;
   {
     py::gil_scoped_release release;
-    r = pcl::icf::estimatePose(*model.icf, points, camera_position, params,
-                               scene_to_model ? &*scene_to_model : nullptr);
+    r = pcl::icf::estimatePose(*model.icf, points, camera_position, params, options);
   }
   return makeNamespace(py::dict("status"_a = pcl::icf::toString(r.status),
                                 "accepted"_a = r.accepted(),

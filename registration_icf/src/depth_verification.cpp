@@ -553,14 +553,21 @@ std::vector<int> pointsExplainedBy(const IcfModel& model, const Eigen::Isometry3
   return explained;
 }
 
-std::string describeFit(const DepthExplanation& explanation,
-                        const DepthVerificationParams& params) {
-  if (!(params.residualFactor(explanation.residual) < 1.0))
-    return {};
-  std::ostringstream fit;
-  fit << "fits the depth at " << std::round(100.0 * explanation.residual) / 100.0
-      << " sigma, full confidence up to " << params.fit_residual;
-  return fit.str();
+std::string describeRefusal(const DepthExplanation& e, double min_confidence,
+                            const DepthVerificationParams& params) {
+  auto percent = [](double share) { return std::to_string(std::lround(100.0 * share)) + "%"; };
+  std::ostringstream why;
+  why << "confidence " << e.confidence << " < " << min_confidence << ": explains "
+      << percent(e.visible_support) << " of the visible model, " << percent(e.seen_through)
+      << " seen through, " << percent(e.below_support) << " beneath the table, "
+      << percent(e.silhouette_continuation) << " of its silhouette continues, "
+      << percent(e.supported) << " of it supported";
+  if (e.out_of_view > 0.0)
+    why << " (" << percent(e.out_of_view) << " beyond the image's border)";
+  if (params.residualFactor(e.residual) < 1.0)
+    why << " and fits the depth at " << std::round(100.0 * e.residual) / 100.0
+        << " sigma, full confidence up to " << params.fit_residual;
+  return why.str();
 }
 
 DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, float diameter,

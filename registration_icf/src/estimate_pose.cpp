@@ -424,9 +424,10 @@ void report(const Outcome& best, IcfResult& result) {
 
 IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
                        const Eigen::Vector3f& camera, const IcfParams& params,
-                       const Eigen::Isometry3f* guess, const IterationCallback& callback,
-                       const StartCheck& worth_refining, const DepthImage* camera_image) {
+                       const PoseEstimateOptions& options) {
   params.validate();
+  const Eigen::Isometry3f* guess = options.guess ? &*options.guess : nullptr;
+  const IterationCallback& callback = options.callback;
   const auto start = std::chrono::steady_clock::now();
   IcfResult result;
   const std::vector<Eigen::Vector3f> points = usablePoints(scene_points);
@@ -437,8 +438,8 @@ IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>
   }
   if (guess && !guess->matrix().allFinite())
     throw std::invalid_argument("estimatePose: the initial guess has a non-finite entry");
-  const PoseEstimation estimation(model, points, camera, params, guess, worth_refining,
-                                  camera_image);
+  const PoseEstimation estimation(model, points, camera, params, guess, options.worth_refining,
+                                  options.camera_image);
   Outcome best = estimation.refineAndMeasure(estimation.firstStart(result), callback);
   // A start the caller refused (worth_refining) ends the search here: the caller's check says
   // the cluster holds nothing it could accept near the search's best.

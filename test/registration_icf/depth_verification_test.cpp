@@ -17,6 +17,8 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <sstream>
+#include <string>
 
 namespace {
 
@@ -614,3 +616,30 @@ TEST(DepthVerification, InvalidParametersNameTheField) {
 }
 
 }  // namespace
+
+// The refusal's one sentence against the explanation it describes, written out by hand: the
+// shares rounded to whole percent, the border share and the fit said only when they count.
+TEST(DepthVerification, ARefusalSaysEveryShareOnce) {
+  DepthExplanation e;
+  e.confidence = 0.62;
+  e.visible_support = 0.814;
+  e.seen_through = 0.021;
+  e.below_support = 0.0;
+  e.silhouette_continuation = 0.896;
+  e.supported = 0.97;
+  const DepthVerificationParams params;
+  e.residual = params.fit_residual;  // the fit costs nothing
+  const std::string shares =
+      "confidence 0.62 < 0.875: explains 81% of the visible model, 2% "
+      "seen through, 0% beneath the table, 90% of its silhouette "
+      "continues, 97% of it supported";
+  EXPECT_EQ(describeRefusal(e, 0.875, params), shares);
+  e.out_of_view = 0.305;
+  e.residual = 1.4142;
+  const DepthVerificationParams exact = DepthVerificationParams::forExactMesh();
+  ASSERT_LT(exact.residualFactor(e.residual), 1.0) << "the premise: this fit lowers confidence";
+  std::ostringstream fit;
+  fit << " and fits the depth at 1.41 sigma, full confidence up to " << exact.fit_residual;
+  EXPECT_EQ(describeRefusal(e, 0.875, exact),
+            shares + " (31% beyond the image's border)" + fit.str());
+}

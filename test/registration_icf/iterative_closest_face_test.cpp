@@ -33,6 +33,28 @@ Trial makeTrial(const SyntheticModel& model, std::uint64_t seed) {
   return pcl::icf::synthetic::randomView(model.mesh, seed);
 }
 
+/** estimatePose's options with only a start check (PoseEstimateOptions::worth_refining). */
+pcl::icf::PoseEstimateOptions withStartCheck(pcl::icf::StartCheck check) {
+  pcl::icf::PoseEstimateOptions options;
+  options.worth_refining = std::move(check);
+  return options;
+}
+
+/** estimatePose's options with a start check and a guess. */
+pcl::icf::PoseEstimateOptions withStartCheck(const Eigen::Isometry3f& guess,
+                                             pcl::icf::StartCheck check) {
+  pcl::icf::PoseEstimateOptions options = withStartCheck(std::move(check));
+  options.guess = guess;
+  return options;
+}
+
+/** estimatePose's options with only a guess. */
+pcl::icf::PoseEstimateOptions fromGuess(const Eigen::Isometry3f& guess) {
+  pcl::icf::PoseEstimateOptions options;
+  options.guess = guess;
+  return options;
+}
+
 /** The trial's cluster as estimatePose takes it. */
 std::vector<Eigen::Vector3f> trialPoints(const Trial& t) {
   std::vector<Eigen::Vector3f> points;
@@ -391,18 +413,19 @@ TEST(IcfParams, StartCheckSkipsOnlyTheRefinementItRefuses) {
   const auto plain = pcl::icf::estimatePose(*model, points, camera, params);
   ASSERT_TRUE(plain.accepted());
 
-  const auto yes = pcl::icf::estimatePose(*model, points, camera, params, nullptr, {},
-                                          [](const Eigen::Isometry3f&) { return true; });
+  const auto yes =
+      pcl::icf::estimatePose(*model, points, camera, params,
+                             withStartCheck([](const Eigen::Isometry3f&) { return true; }));
   EXPECT_TRUE(yes.object_pose.isApprox(plain.object_pose, 0.f));
   EXPECT_EQ(yes.status, plain.status);
   EXPECT_FALSE(yes.refinement_skipped);
 
   std::vector<Eigen::Isometry3f> asked;
-  const auto no = pcl::icf::estimatePose(*model, points, camera, params, nullptr, {},
-                                         [&](const Eigen::Isometry3f& start) {
+  const auto no = pcl::icf::estimatePose(*model, points, camera, params,
+                                         withStartCheck([&](const Eigen::Isometry3f& start) {
                                            asked.push_back(start);
                                            return false;
-                                         });
+                                         }));
   ASSERT_EQ(asked.size(), 1u);
   EXPECT_EQ(no.status, pcl::icf::IcfStatus::Rejected);
   EXPECT_TRUE(no.refinement_skipped);
@@ -417,21 +440,21 @@ TEST(IcfParams, StartCheckSkipsOnlyTheRefinementItRefuses) {
 
   params.fallback = pcl::icf::FallbackPolicy::Auto;
   asked.clear();
-  const auto refused = pcl::icf::estimatePose(*model, points, camera, params, nullptr, {},
-                                              [&](const Eigen::Isometry3f& start) {
+  const auto refused = pcl::icf::estimatePose(*model, points, camera, params,
+                                              withStartCheck([&](const Eigen::Isometry3f& start) {
                                                 asked.push_back(start);
                                                 return false;
-                                              });
+                                              }));
   EXPECT_EQ(asked.size(), 1u);
   EXPECT_FALSE(refused.fallback_ran) << "a refused search start ends the search";
 
   asked.clear();
   const Eigen::Isometry3f guess(plain.scene_to_model);
-  const auto guided = pcl::icf::estimatePose(*model, points, camera, params, &guess, {},
-                                             [&](const Eigen::Isometry3f& start) {
-                                               asked.push_back(start);
-                                               return false;
-                                             });
+  const auto guided = pcl::icf::estimatePose(
+      *model, points, camera, params, withStartCheck(guess, [&](const Eigen::Isometry3f& start) {
+        asked.push_back(start);
+        return false;
+      }));
   EXPECT_TRUE(asked.empty());
   EXPECT_FALSE(guided.refinement_skipped);
 }
@@ -455,11 +478,11 @@ TEST(IcfParams, CandidateCheckSkipsTheExactRefinementOnlyWhenAllAreRefused) {
   ASSERT_GE(hypotheses.size(), params.exact_candidates);
 
   std::vector<Eigen::Isometry3f> asked;
-  const auto refused = pcl::icf::estimatePose(*model, points, camera, params, nullptr, {},
-                                              [&](const Eigen::Isometry3f& start) {
+  const auto refused = pcl::icf::estimatePose(*model, points, camera, params,
+                                              withStartCheck([&](const Eigen::Isometry3f& start) {
                                                 asked.push_back(start);
                                                 return false;
-                                              });
+                                              }));
   ASSERT_EQ(asked.size(), params.exact_candidates + 1);
   for (std::size_t i = 0; i < params.exact_candidates; ++i)
     EXPECT_TRUE(asked[i].isApprox(hypotheses[i].scene_to_model, 0.f)) << "candidate " << i;
@@ -471,10 +494,10 @@ TEST(IcfParams, CandidateCheckSkipsTheExactRefinementOnlyWhenAllAreRefused) {
   const Eigen::Isometry3f last = hypotheses[params.exact_candidates - 1].scene_to_model;
   bool last_seen = false;
   const auto one_passes = pcl::icf::estimatePose(
-      *model, points, camera, params, nullptr, {}, [&](const Eigen::Isometry3f& start) {
+      *model, points, camera, params, withStartCheck([&](const Eigen::Isometry3f& start) {
         last_seen = last_seen || start.isApprox(last, 0.f);
         return last_seen;
-      });
+      }));
   EXPECT_TRUE(last_seen);
   EXPECT_TRUE(one_passes.object_pose.isApprox(plain.object_pose, 0.f));
   EXPECT_EQ(one_passes.status, plain.status);
@@ -519,11 +542,12 @@ TEST(IcfParams, SeenThroughRejectsAPoseTheCameraSeesThrough) {
   params.fallback = pcl::icf::FallbackPolicy::Off;
   const Eigen::Isometry3f truth = t.truth.inverse().cast<float>();  // scene -> model
   const Eigen::Vector3f camera = Eigen::Vector3f::Zero();
-  const auto clean = pcl::icf::estimatePose(*model, view, camera, params, &truth);
+  const auto clean = pcl::icf::estimatePose(*model, view, camera, params, fromGuess(truth));
   ASSERT_TRUE(clean.accepted());
   EXPECT_LT(clean.quality.seen_through, 0.01);
 
-  const auto patched = pcl::icf::estimatePose(*model, seen_through, camera, params, &truth);
+  const auto patched =
+      pcl::icf::estimatePose(*model, seen_through, camera, params, fromGuess(truth));
   EXPECT_EQ(patched.status, pcl::icf::IcfStatus::Rejected);
   EXPECT_GT(patched.quality.seen_through, params.acceptance.max_seen_through);
   // One point per pixel: the moved share of the points is about the seen-through share of the
@@ -538,7 +562,8 @@ TEST(IcfParams, SeenThroughRejectsAPoseTheCameraSeesThrough) {
   EXPECT_LE(error.rotation_deg, 3.0);
 
   params.acceptance.max_seen_through = 1.0;  // the check off: the other rules accept
-  const auto unchecked = pcl::icf::estimatePose(*model, seen_through, camera, params, &truth);
+  const auto unchecked =
+      pcl::icf::estimatePose(*model, seen_through, camera, params, fromGuess(truth));
   EXPECT_TRUE(unchecked.accepted());
   EXPECT_EQ(unchecked.quality.seen_through, 0.0) << "not measured when the check is off";
   std::cout << "seen through: " << clean.quality.seen_through << " without the window, "

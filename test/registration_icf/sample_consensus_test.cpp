@@ -331,9 +331,10 @@ TEST(Fallback, AutoStaysQuietWhenTheSearchSucceedsAndAlwaysReplacesIt) {
   EXPECT_LE(e.rotation_deg, 3.0);
 
   // A guess means "refine from here": no fallback, whatever the policy.
-  const Eigen::Isometry3f guess(always.scene_to_model);
+  pcl::icf::PoseEstimateOptions options;
+  options.guess = Eigen::Isometry3f(always.scene_to_model);
   const auto guessed =
-      pcl::icf::estimatePose(*prepared, t.points, Eigen::Vector3f::Zero(), params, &guess);
+      pcl::icf::estimatePose(*prepared, t.points, Eigen::Vector3f::Zero(), params, options);
   EXPECT_FALSE(guessed.fallback_ran);
   EXPECT_EQ(guessed.method, "guess+icf");
 }

@@ -735,6 +735,22 @@ TEST(SyntheticClutter, DeskMeetsItsSpec) {
     ASSERT_TRUE((!std::isfinite(p.z) && !std::isfinite(q.z)) || p.z == q.z) << i;
   }
   EXPECT_THROW(makeClutterScene(target, {}, 1, spec), std::invalid_argument);
+  // A desk written as numbers: its recorded layout and view render the same frames, bit for bit.
+  const ClutterScene c = renderClutterDesk(a.layout, a.view);
+  EXPECT_EQ(c.names, a.names);
+  EXPECT_EQ(c.target_visible, a.target_visible);
+  EXPECT_EQ(c.target_in_view, a.target_in_view);
+  for (const auto& [drawn, written] :
+       {std::pair(&a.present, &c.present), std::pair(&a.absent, &c.absent)}) {
+    ASSERT_EQ(written->cloud->size(), drawn->cloud->size());
+    EXPECT_EQ(written->labels, drawn->labels);
+    for (std::size_t i = 0; i < drawn->cloud->size(); ++i) {
+      const auto &p = (*drawn->cloud)[i], &q = (*written->cloud)[i];
+      ASSERT_TRUE((!std::isfinite(p.z) && !std::isfinite(q.z)) || p.z == q.z) << i;
+    }
+  }
+  EXPECT_THROW(renderClutterDesk({}, a.view), std::invalid_argument);
+  EXPECT_THROW(renderClutterDesk({DeskObject()}, a.view), std::invalid_argument);
 }
 
 TEST(DepthCamera, InvalidArguments) {

@@ -17,7 +17,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -208,17 +207,9 @@ bool ObjectTracker::refine(const FrameView& view, const DepthImage& image,
   out.refine_confidence = out.confidence;
   out.verify_ms = msSince(verify_start);
   if (out.confidence < params_.localizer.min_confidence) {
-    std::ostringstream msg;
-    msg << "the refined pose's confidence " << out.confidence << " is below "
-        << params_.localizer.min_confidence << " (" << 100.0 * out.verification.visible_support
-        << "% of the visible model explained, " << 100.0 * out.verification.silhouette_continuation
-        << "% of its silhouette continues";
-    // The fit, when it lowered the confidence (as the localizer's refusal says it).
-    if (const std::string fit = describeFit(out.verification, params_.localizer.verification);
-        !fit.empty())
-      msg << ", " << fit;
-    msg << ")";
-    out.message = msg.str();
+    out.message =
+        "the refined pose: " + describeRefusal(out.verification, params_.localizer.min_confidence,
+                                               params_.localizer.verification);
     out.refine_message = out.message;
     return false;
   }
@@ -322,13 +313,9 @@ bool ObjectTracker::reacquire(const FrameView& view, const DepthImage& image,
   out.verification = explanations[best];
   out.confidence = out.verification.confidence;
   if (out.confidence < lp.min_confidence) {
-    std::ostringstream msg;
-    msg << "re-acquisition near the last pose: the best of " << n << " hypotheses has confidence "
-        << out.confidence << ", below " << lp.min_confidence << " ("
-        << 100.0 * out.verification.visible_support << "% of the visible model explained, "
-        << 100.0 * out.verification.supported << "% of it supported, "
-        << 100.0 * out.verification.seen_through << "% seen through)";
-    out.message = msg.str();
+    out.message =
+        "re-acquisition near the last pose, the best of " + std::to_string(n) +
+        " hypotheses: " + describeRefusal(out.verification, lp.min_confidence, verification);
     return false;
   }
   const Eigen::Isometry3f pose = poses[best];

@@ -225,12 +225,15 @@ DepthExplanation explainDepth(const IcfModel& model, const Eigen::Isometry3f& mo
 DepthExplanation explainDepth(const ModelDepth& rendered, const DepthImage& image, float diameter,
                               const DepthVerificationParams& params = {});
 
-/** \brief How \a explanation's fit lowered its confidence, in a refusal's words: "fits the
- * depth at 1.41 sigma, full confidence up to 0.8" when its residual is beyond \a params'
- * fit_residual (residualFactor below 1), "" when the fit costs nothing. The localizer's and the
- * tracker's refusals both say it, so that exact-mesh limits on a scanned mesh explain
- * themselves. */
-std::string describeFit(const DepthExplanation& explanation, const DepthVerificationParams& params);
+/** \brief Why a pose whose \a explanation falls short of \a min_confidence is refused, in one
+ * sentence: "confidence 0.62 < 0.875: explains 81% of the visible model, 2% seen through, 0%
+ * beneath the table, 90% of its silhouette continues, 97% of it supported", then the share beyond
+ * the image's border when there is one, and how the fit lowered the confidence when it did ("and
+ * fits the depth at 1.41 sigma, full confidence up to 0.8", \a params' fit_residual: exact-mesh
+ * limits on a scanned mesh explain themselves). Every refusal of a depth explanation (the
+ * localizer's, the tracker's) says it in these words. */
+std::string describeRefusal(const DepthExplanation& explanation, double min_confidence,
+                            const DepthVerificationParams& params);
 
 /** \brief The indices of \a points (camera frame) that \a model at \a model_to_camera explains:
  * their pixel in \a image is covered by the rendered model and their depth lies on its surface

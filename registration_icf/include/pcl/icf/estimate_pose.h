@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -166,14 +167,37 @@ struct IcfResult {
  * refinement: false when no refinement could make it acceptable, to save that refinement. */
 using StartCheck = std::function<bool(const Eigen::Isometry3f& scene_to_model)>;
 
+/** \brief What an estimatePose call may take besides the data and the parameters. */
+struct PoseEstimateOptions {
+  /** A scene-to-model start: then only the refinement runs (no search, no fallback). */
+  std::optional<Eigen::Isometry3f> guess;
+  IterationCallback callback;  ///< called after every refinement iteration
+  /** Called with every start pose of a search (the search's best, SAC's) before its final
+   * refinement, and with the fast search's candidates before their exact refinement
+   * (IcfParams::check_candidates); when it returns false that start is not refined nor measured
+   * (IcfResult::refinement_skipped; the start is reported as it is, Rejected), and a refused
+   * search start ends the search (no SAC fallback after it). Never called with a guess. The
+   * localizer passes its depth verification here (LocalizerParams::refine_min_confidence):
+   * most clusters of a real scene are other objects, and their final refinement was a third of
+   * a frame's time. */
+  StartCheck worth_refining;
+  /** The scene as a depth image with the scene's frame as the camera's, for the seen-through
+   * check; not owned, it must outlive the call. Without it, the points themselves are projected
+   * for a virtual camera at the call's camera looking at their centroid, at their own angular
+   * spacing. */
+  const DepthImage* camera_image = nullptr;
+};
+
 /** \brief Estimate the model's pose in a cluster of scene points (doc/icf.md): search (or
- * start from \a guess), refine by iterative closest face, measure, accept or reject.
+ * start from PoseEstimateOptions::guess), refine by iterative closest face, measure, accept or
+ * reject.
  *
  * \param scene_points points of one cluster, scene frame and units; points with a NaN or
  * infinite coordinate, or one beyond +-kMaxPointCoordinate, are left out (IcfResult::points
  * counts the rest)
  * \param camera the sensor's position in the scene frame (visibility)
- * \param guess optional scene-to-model start; then only the refinement runs
+ * \param options a start, an iteration callback, the caller's check of start poses, the scene's
+ * depth image (PoseEstimateOptions)
  *
  * The SampleConsensus fallback (params.fallback, sample_consensus_alignment.h): with Auto, when
  * the refined search result is not accepted, sampleConsensusAlign(params.sac) runs on the same
@@ -186,24 +210,12 @@ using StartCheck = std::function<bool(const Eigen::Isometry3f& scene_to_model)>;
  * Deterministic for params.seed and params.sac.seed and independent of params.threads.
  *
  * The seen-through check (AcceptanceParams::max_seen_through) compares every measured pose with
- * \a camera_image when given: the scene as a depth image with the scene's frame as the camera's
- * (the localizer's, table marked). Without it, the points themselves are projected for a
- * virtual camera at \a camera looking at their centroid, at their own angular spacing.
- *
- * \param worth_refining optional: called with every start pose of a search (the search's best,
- * SAC's) before its final refinement, and with the fast search's candidates before their exact
- * refinement (IcfParams::check_candidates); when it returns false that start is not refined nor
- * measured (IcfResult::refinement_skipped; the start is reported as it is, Rejected), and a
- * refused search start ends the search (no SAC fallback after it). Never called with a guess. The
- * localizer passes its depth verification here (LocalizerParams::refine_min_confidence): most
- * clusters of a real scene are other objects, and their final refinement was a third of a frame's
- * time. */
+ * the scene's depth image (PoseEstimateOptions::camera_image).
+ * \throws std::invalid_argument for parameters out of range or a guess with a non-finite
+ * entry. */
 IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
                        const Eigen::Vector3f& camera, const IcfParams& params,
-                       const Eigen::Isometry3f* guess = nullptr,
-                       const IterationCallback& callback = {},
-                       const StartCheck& worth_refining = {},
-                       const DepthImage* camera_image = nullptr);
+                       const PoseEstimateOptions& options = {});
 
 /** \brief Apply the acceptance rule to a measured quality (seen_through as estimatePose measured
  * it; 0 when not measured). */

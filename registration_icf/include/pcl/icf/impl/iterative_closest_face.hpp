@@ -247,21 +247,25 @@ void IterativeClosestFace<PointSource, Scalar>::computeTransformation(PointCloud
   const bool from_guess =
       guess_policy_ == GuessPolicy::Always || (guess_policy_ != GuessPolicy::Never && !identity);
   const float radius = aligned_radius_ = params.refinement.initial_inlier_distance;
+  icf::PoseEstimateOptions search_options;
+  search_options.callback = callback;
+  icf::PoseEstimateOptions from_guess_options = search_options;
+  from_guess_options.guess = guess_iso;
   if (from_guess) {
-    result_ = icf::estimatePose(*model_, points, camera, params, &guess_iso, callback);
+    result_ = icf::estimatePose(*model_, points, camera, params, from_guess_options);
   } else {
     // The identity first (see the class comment) when the source already lies on the model.
     std::optional<icf::IcfResult> local;
     if (guess_policy_ == GuessPolicy::IdentityRefinedFirst &&
         icf::countPointsNearSurface(model_->index(), points, Eigen::Isometry3f::Identity(), radius,
                                     params.threads) >= params.acceptance.min_inliers) {
-      local = icf::estimatePose(*model_, points, camera, params, &guess_iso, callback);
+      local = icf::estimatePose(*model_, points, camera, params, from_guess_options);
       local->method = "identity+icf";
     }
     if (local && local->accepted()) {
       result_ = *local;
     } else {
-      result_ = icf::estimatePose(*model_, points, camera, params, nullptr, callback);
+      result_ = icf::estimatePose(*model_, points, camera, params, search_options);
       // Neither accepted: the pose that covers more of the visible surface, as estimatePose
       // chooses between the search and its fallback.
       if (local) {

@@ -1,0 +1,257 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#include "hypothesis_judging.h"
+
+#include <pcl/icf/estimate_pose.h>
+#include <pcl/icf/localization/colour_histogram.h>
+#include <pcl/icf/localization/pose_alternatives.h>
+#include <pcl/icf/pose_verification.h>
+#include <pcl/icf/usable_point.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <sstream>
+#include <string>
+
+namespace pcl::icf::localization::detail {
+
+using internal::SceneView;
+
+namespace {
+
+/** The localizer works in the camera's frame (localizeObject moves the scene there). */
+const Eigen::Vector3f kCameraAtOrigin = Eigen::Vector3f::Zero();
+
+/** The thesis's gate on one cluster: points farther than gate_distance from the posed model.
+ * A cluster of one object is counted whole; in a merged cluster only the points the model
+ * claims: on its rendered silhouette and not in front of its surface. */
+int gateFarPoints(const std::vector<Eigen::Vector3f>& points, const IcfModel& model,
+                  const Eigen::Isometry3f& scene_to_model, const ModelDepth& rendered,
+                  const DepthImage& image, const LocalizerParams& params, bool single_object) {
+  int far = 0;
+  for (const auto& x : points) {
+    if (!single_object) {
+      int u = 0, v = 0;
+      if (!image.pixelOf(x, u, v) || !rendered.covers(u, v) ||
+          x.z() < rendered.depth[static_cast<std::size_t>(v) * rendered.width + u] -
+                      params.gate_distance)
+        continue;
+    }
+    if (model.index().closestFace(scene_to_model * x, params.gate_distance).distance >
+        params.gate_distance)
+      ++far;
+  }
+  return far;
+}
+
+/** The points of \a indices within the verification's depth tolerance of the posed model's
+ * surface (noise_sigmas x sigma(z) + size_tolerance x diameter). */
+pcl::Indices explainedPoints(const SceneView& view, const pcl::PointIndices& indices,
+                             const IcfModel& model, const Eigen::Isometry3f& scene_to_model,
+                             const DepthVerificationParams& v) {
+  const float diameter = 2.f * model.radius();
+  pcl::Indices explained;
+  for (const auto i : indices.indices) {
+    const Eigen::Vector3f& p = view.points[static_cast<std::size_t>(i)];
+    if (!isUsablePoint(p))
+      continue;
+    const float tolerance = v.supportTolerance(p.z(), diameter);
+    if (model.index().closestFace(scene_to_model * p, tolerance).distance <= tolerance)
+      explained.push_back(i);
+  }
+  return explained;
+}
+
+/** True when \a judged's pose is worth more work (its turns, a refit of its cluster's rest):
+ * accepted, or at least half the confidence an acceptance needs. */
+bool isPromising(const ClusterLocalization& judged, const LocalizerParams& params) {
+  return judged.accepted || judged.verification.confidence >= 0.5 * params.min_confidence;
+}
+
+/** The usable points of \a indices. */
+std::vector<Eigen::Vector3f> usablePoints(const SceneView& view, const pcl::PointIndices& indices) {
+  std::vector<Eigen::Vector3f> points;
+  points.reserve(indices.indices.size());
+  for (const auto i : indices.indices)
+    if (isUsablePoint(view.points[static_cast<std::size_t>(i)]))
+      points.push_back(view.points[static_cast<std::size_t>(i)]);
+  return points;
+}
+
+/** \a alt's turn from \a from, in \a from's model frame: axis, angle and offsets. */
+void describeTurn(const Eigen::Isometry3f& from, PoseAlternative& alt) {
+  const Eigen::AngleAxisf turn(from.linear().transpose() * alt.object_pose.linear());
+  alt.axis = turn.axis();
+  alt.turn_deg = std::abs(turn.angle()) * 180.f / static_cast<float>(M_PI);
+  alt.rotation_offset_deg = alt.turn_deg;
+  alt.translation_offset = (alt.object_pose.translation() - from.translation()).norm();
+}
+
+/** A pose against its turns about the model's principal axes (turnedAlternatives): a turn
+ * that explains the depth clearly better (by more than the margin) replaces it; the others as
+ * good (within the margin) are recorded as its alternatives. */
+void resolveTurns(ClusterLocalization& c, const SceneView& view, const DepthImage& image,
+                  const IcfModel& model, const PrincipalAxes& axes, const LocalizerParams& params) {
+  const std::vector<Eigen::Vector3f> points = usablePoints(view, c.indices);
+  PoseAlternativeParams ap = params.alternatives;
+  ap.refinement = params.icf.refinement;
+  ap.verification = params.verification;
+  const Eigen::Isometry3f found(c.icf.object_pose);
+  std::vector<PoseAlternative> candidates =
+      turnedAlternatives(model, axes, points, found, c.verification, image, ap);
+  if (candidates.empty())
+    return;
+  PoseAlternative self;
+  self.object_pose = found;
+  self.verification = c.verification;
+  candidates.insert(candidates.begin(), self);
+  // A turn replaces the search's pose only when it explains the depth clearly better (its
+  // confidence higher by more than the margin): within the margin the difference is noise
+  // (a flat box's flip and the truth differ by 0.001-0.006 on the YCB-Video frames, either
+  // way), and the turns are reported as alternatives instead.
+  std::size_t chosen = 0;
+  for (std::size_t k = 1; k < candidates.size(); ++k)
+    if (candidates[k].verification.confidence >
+        candidates[chosen].verification.confidence + (chosen == 0 ? ap.confidence_margin : 0.0))
+      chosen = k;
+  const PoseAlternative winner = candidates[chosen];
+  if (chosen != 0) {
+    const double colour_factor =
+        c.verification.confidence > 0.0 ? c.score / c.verification.confidence : 1.0;
+    const Eigen::Isometry3f scene_to_model = winner.object_pose.inverse();
+    c.icf.object_pose = winner.object_pose.matrix();
+    c.icf.scene_to_model = scene_to_model.matrix();
+    c.icf.quality = measurePoseQuality(model, points, scene_to_model, kCameraAtOrigin,
+                                       params.icf.acceptance.inlier_distance,
+                                       params.icf.acceptance.gate_distance, params.icf.objective,
+                                       params.icf.acceptance.visibility);
+    c.verification = winner.verification;
+    c.score = c.verification.confidence * colour_factor;
+    c.explained = explainedPoints(view, c.indices, model, scene_to_model, params.verification);
+    c.turned = true;
+  }
+  c.alternatives.clear();
+  for (std::size_t k = 0; k < candidates.size(); ++k)
+    if (k != chosen && candidates[k].verification.confidence >=
+                           winner.verification.confidence - ap.confidence_margin) {
+      PoseAlternative alt = candidates[k];
+      describeTurn(winner.object_pose, alt);
+      c.alternatives.push_back(alt);
+    }
+}
+
+/** Why a judged cluster is not accepted ("" when it is). */
+std::string rejection(const ClusterLocalization& c, const LocalizerParams& params) {
+  std::string reason;
+  if (c.verification.confidence < params.min_confidence)
+    reason = describeRefusal(c.verification, params.min_confidence, params.verification);
+  if (!c.gate_passed) {
+    std::ostringstream gate;
+    gate << (reason.empty() ? "" : " ") << "thesis gate (" << c.gate_far_points << " points beyond "
+         << params.gate_distance << ")";
+    reason += gate.str();
+  }
+  return reason;
+}
+
+ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
+                                 const pcl::PointIndices& indices, const IcfModel& model,
+                                 const LocalizerParams& params, int icf_threads,
+                                 const std::optional<ColourHistogram>& expected, bool single_object,
+                                 const PrincipalAxes* axes, const Eigen::Isometry3f* start) {
+  ClusterLocalization c;
+  c.indices = indices;
+  c.single_object = single_object;
+
+  const std::vector<Eigen::Vector3f> points = usablePoints(view, indices);
+  IcfParams icf = params.icf;
+  icf.threads = icf_threads;
+  // A hypothesis is refined from its pose, on a strided subset of the points near it.
+  if (start) {
+    const SceneHypotheses& hp = params.tuning.hypotheses;
+    icf.refinement.max_points = hp.refine_points;
+    icf.refinement.initial_inlier_distance =
+        std::max(icf.refinement.final_inlier_distance, hp.fine_start_radius);
+    icf.refinement.max_iterations = std::min(icf.refinement.max_iterations, hp.fine_iterations);
+  }
+  const Eigen::Isometry3f guess =
+      start ? start->inverse(Eigen::Isometry) : Eigen::Isometry3f::Identity();
+  StartCheck worth_refining;
+  // A start worth refining never needs more than an accepted pose.
+  const double refine_at = std::min(params.refine_min_confidence, params.min_confidence);
+  if (refine_at > 0.0)
+    worth_refining = [&, refine_at](const Eigen::Isometry3f& scene_to_model) {
+      return explainDepth(model, scene_to_model.inverse(Eigen::Isometry), image,
+                          params.verification)
+                 .confidence >= refine_at;
+    };
+  PoseEstimateOptions options;
+  if (start)
+    options.guess = guess;
+  options.worth_refining = worth_refining;
+  c.icf = estimatePose(model, points, kCameraAtOrigin, icf, options);
+  if (c.icf.status == IcfStatus::TooFewPoints) {
+    c.reason = "too few points (" + std::to_string(c.icf.points) + ")";
+    return c;
+  }
+  const Eigen::Isometry3f model_to_camera(c.icf.object_pose);
+  const ModelDepth rendered = renderModelDepth(model, model_to_camera, image.intrinsics());
+  c.verification = explainDepth(rendered, image, 2.f * model.radius(), params.verification);
+  c.explained = explainedPoints(view, indices, model, Eigen::Isometry3f(c.icf.scene_to_model),
+                                params.verification);
+  if (params.far_point_gate) {
+    c.gate_far_points = gateFarPoints(points, model, Eigen::Isometry3f(c.icf.scene_to_model),
+                                      rendered, image, params, single_object);
+    const double allowed =
+        std::max<double>(params.gate_max_far_points, params.gate_max_far_fraction * points.size());
+    c.gate_passed = c.gate_far_points <= allowed;
+  }
+  double colour_factor = 1.0;
+  if (expected && !view.colours.empty()) {
+    ColourHistogram h(params.colour.bins);
+    for (const auto i : indices.indices)
+      h.add(view.colours[static_cast<std::size_t>(i)]);
+    c.colour_similarity = h.intersection(*expected);
+    colour_factor = std::pow(std::max(1e-3, *c.colour_similarity), params.colour.weight);
+  }
+  c.score = c.verification.confidence * colour_factor;
+  // A promising pose is checked against its turns before it is judged: the search may have
+  // landed on a near-symmetric flip that explains the depth a little worse.
+  if (axes && isPromising(c, params))
+    resolveTurns(c, view, image, model, *axes, params);
+  c.reason = rejection(c, params);
+  c.accepted = c.reason.empty();
+  return c;
+}
+
+}  // namespace
+
+std::vector<ClusterLocalization> judgeHypotheses(const SceneView& view, const DepthImage& image,
+                                                 const IcfModel& model,
+                                                 const LocalizerParams& params,
+                                                 const std::vector<RankedHypothesis>& ranked,
+                                                 int threads) {
+  std::optional<ColourHistogram> expected;
+  if (params.colour.expected)
+    expected = ColourHistogram::ofColour(*params.colour.expected, params.colour.bins);
+  std::optional<PrincipalAxes> axes;
+  if (params.check_turns)
+    axes = principalAxes(model);
+  std::vector<ClusterLocalization> judged(ranked.size());
+  const int n = static_cast<int>(ranked.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (n > 1)
+  for (int k = 0; k < n; ++k) {
+    const RankedHypothesis& h = ranked[static_cast<std::size_t>(k)];
+    ClusterLocalization& c = judged[static_cast<std::size_t>(k)];
+    c = judgeCluster(view, image, h.near, model, params, n == 1 ? threads : 1, expected, true,
+                     axes ? &*axes : nullptr, &h.model_to_camera);
+    c.source_cluster = h.source.cluster;
+    c.prescore = h.prescore;
+  }
+  return judged;
+}
+
+}  // namespace pcl::icf::localization::detail

@@ -106,10 +106,69 @@ struct Options {
   std::uint64_t seed = 2013;
 };
 
+/** How a kind of suite is written. */
+enum class Writer {
+  Groups,    ///< per group of the kind (allGroups), cases per group (writeSuite)
+  Desks,     ///< cluttered desks, each with its target-absent twin (writeClutterSuite)
+  Sequences  ///< streams of frames for pcl_icf_tool --track, no manifest (writeSequences)
+};
+
+/** A kind of suite: its name, its default --cases, how it is written, and what its manifest
+ * says of it beyond the common header ("" nothing). */
+struct Kind {
+  const char* name;
+  int default_cases;
+  Writer writer;
+  const char* header;
+};
+
+const Kind kKinds[] = {
+    {"views", 30, Writer::Groups, ""},
+    {"tabletop", 30, Writer::Groups, ""},
+    {"absent", 30, Writer::Groups,
+     "# TARGET ABSENT (truth=none): each scene is a whole organized frame (x y z rgb, table\n"
+     "# included) holding a shape similar to the asked-for model, never the model itself.\n"
+     "# A pose claimed here is a false pose. For the scene-level method:\n"
+     "#   pcl_icf_bench --methods icf-scene THIS_MANIFEST\n"
+     "# (cluster=all is the whole frame: the cluster methods are not run on these cases).\n"},
+    {"present", 30, Writer::Groups,
+     "# TARGET PRESENT beside a similar shape of its colour: each scene is a whole organized\n"
+     "# frame (x y z rgb, table included). For the scene-level method:\n"
+     "#   pcl_icf_bench --methods icf-scene THIS_MANIFEST\n"},
+    {"clutter", 30, Writer::Desks,
+     "# CLUTTERED DESKS: 10-25 objects touching, stacked, more on a shelf behind;\n"
+     "# Kinect v1 holes and flying pixels along depth edges. Whole organized frames (x y z\n"
+     "# rgb). K_NNN: the target's part in view 30-100% visible, group by the share of the\n"
+     "# whole target seen, the part beyond the frame unseen (K-v0-30, K-v30-50, K-v50-75,\n"
+     "# K-v75-100); K_NNN_absent: the same desk without it (truth=none, a pose is false).\n"
+     "#   pcl_icf_bench --methods icf-scene THIS_MANIFEST\n"},
+    {"desk", 30, Writer::Desks,
+     "# REAL-LIKE DESKS: 15-25 objects touching, stacked, more on a shelf behind, the target\n"
+     "# 0.6-1.6 m away; Kinect v1 structured-light noise (quantised disparity) and edge\n"
+     "# artefacts. D_NNN: groups by range and the share of the whole target seen\n"
+     "# (D-r0.6-0.9-v50-75, ...); D_NNN_absent: the same desk without it (truth=none).\n"
+     "#   pcl_icf_bench --methods icf-scene --exact-mesh THIS_MANIFEST\n"},
+    {"sequence", 1, Writer::Sequences, ""},
+};
+
+/** The kind named \a name; std::invalid_argument listing the kinds when there is none. */
+const Kind& kindNamed(const std::string& name) {
+  std::string names;
+  for (const Kind& k : kKinds) {
+    if (name == k.name)
+      return k;
+    names += std::string(names.empty() ? "" : ", ") + k.name;
+  }
+  throw std::invalid_argument("--kind must be one of " + names + ", not " + name);
+}
+
 int usage(const char* program) {
+  std::string kinds;
+  for (const Kind& k : kKinds)
+    kinds += std::string(kinds.empty() ? "" : "|") + k.name;
   std::fprintf(stderr,
                "Usage: %s --out DIR [--manifest FILE]\n"
-               "          [--kind views|tabletop|absent|present|clutter|desk|sequence]\n"
+               "          [--kind %s]\n"
                "          [--cases N]"
                " [--frames N] [--models A,B,...] [--seed S]\n"
                "Writes a seeded synthetic suite of the thesis's models and its manifest\n"
@@ -120,7 +179,7 @@ int usage(const char* program) {
                "0.6-1.6 m, structured-light noise), grouped by range and visibility.\n"
                "--kind sequence writes N (default 1) streams of --frames (default 40) frames\n"
                "for pcl_icf_tool --track, each with frames.txt and truth.json, no manifest.\n",
-               program);
+               program, kinds.c_str());
   return 2;
 }
 
@@ -156,19 +215,14 @@ bool parseOptions(int argc, char** argv, Options& opt) {
   }
   if (opt.out.empty())
     throw std::invalid_argument("--out is required");
-  if (opt.kind != "views" && opt.kind != "tabletop" && opt.kind != "absent" &&
-      opt.kind != "present" && opt.kind != "clutter" && opt.kind != "desk" &&
-      opt.kind != "sequence")
-    throw std::invalid_argument(
-        "--kind must be views, tabletop, absent, present, clutter, desk or sequence, not " +
-        opt.kind);
+  const Kind& kind = kindNamed(opt.kind);
   if (opt.cases == -1)
-    opt.cases = opt.kind == "sequence" ? 1 : 30;
+    opt.cases = kind.default_cases;
   if (opt.cases < 1 || opt.cases > 100000)
     throw std::invalid_argument("--cases must lie in [1, 100000]");
   if (opt.frames < 10 || opt.frames > 100000)
     throw std::invalid_argument("--frames must lie in [10, 100000]");
-  if (opt.kind == "sequence" && (!opt.manifest.empty() || !opt.models.empty()))
+  if (kind.writer == Writer::Sequences && (!opt.manifest.empty() || !opt.models.empty()))
     throw std::invalid_argument("--kind sequence takes no --manifest and no --models");
   if (opt.manifest.empty())
     opt.manifest = opt.out / "manifest.txt";
@@ -382,33 +436,7 @@ std::string manifestHeader(const Options& opt) {
       modelsOption(opt) +
       "\n# Simulated Kinect (640x480, f 525 px), noise 1.5 mm at 1 m ~ depth^2, 5% "
       "outliers within +-5 cm; scenes in metres, camera at the origin.\n";
-  if (opt.kind == "absent")
-    text +=
-        "# TARGET ABSENT (truth=none): each scene is a whole organized frame (x y z rgb, table\n"
-        "# included) holding a shape similar to the asked-for model, never the model itself.\n"
-        "# A pose claimed here is a false pose. For the scene-level method:\n"
-        "#   pcl_icf_bench --methods icf-scene THIS_MANIFEST\n"
-        "# (cluster=all is the whole frame: the cluster methods are not run on these cases).\n";
-  if (opt.kind == "clutter")
-    text +=
-        "# CLUTTERED DESKS: 10-25 objects touching, stacked, more on a shelf behind;\n"
-        "# Kinect v1 holes and flying pixels along depth edges. Whole organized frames (x y z\n"
-        "# rgb). K_NNN: the target's part in view 30-100% visible, group by the share of the\n"
-        "# whole target seen, the part beyond the frame unseen (K-v0-30, K-v30-50, K-v50-75,\n"
-        "# K-v75-100); K_NNN_absent: the same desk without it (truth=none, a pose is false).\n"
-        "#   pcl_icf_bench --methods icf-scene THIS_MANIFEST\n";
-  if (opt.kind == "desk")
-    text +=
-        "# REAL-LIKE DESKS: 15-25 objects touching, stacked, more on a shelf behind, the target\n"
-        "# 0.6-1.6 m away; Kinect v1 structured-light noise (quantised disparity) and edge\n"
-        "# artefacts. D_NNN: groups by range and the share of the whole target seen\n"
-        "# (D-r0.6-0.9-v50-75, ...); D_NNN_absent: the same desk without it (truth=none).\n"
-        "#   pcl_icf_bench --methods icf-scene --exact-mesh THIS_MANIFEST\n";
-  if (opt.kind == "present")
-    text +=
-        "# TARGET PRESENT beside a similar shape of its colour: each scene is a whole organized\n"
-        "# frame (x y z rgb, table included). For the scene-level method:\n"
-        "#   pcl_icf_bench --methods icf-scene THIS_MANIFEST\n";
+  text += kindNamed(opt.kind).header;
   return text;
 }
 
@@ -726,13 +754,14 @@ int main(int argc, char** argv) {
     return usage(argv[0]);
   }
   try {
-    if (opt.kind == "sequence") {
+    const Writer writer = kindNamed(opt.kind).writer;
+    if (writer == Writer::Sequences) {
       const std::size_t written = writeSequences(opt);
       std::printf("wrote %zu sequences of %d frames to %s\n", written, opt.frames,
                   (opt.out / "sequence").string().c_str());
       return 0;
     }
-    if (opt.kind == "clutter" || opt.kind == "desk") {
+    if (writer == Writer::Desks) {
       const std::size_t written = writeClutterSuite(opt);
       std::printf("wrote %zu cases (%d desks, with and without the target) to %s, manifest %s\n",
                   written, opt.cases, opt.out.string().c_str(), opt.manifest.string().c_str());

@@ -90,6 +90,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -108,19 +109,8 @@ namespace t = pcl::icf::synthetic;
 using namespace pcl_icf_tools::bench;
 using Clock = std::chrono::steady_clock;
 
-/** The methods run on the case's cluster, the default set: ICF's, PCL's and, when compiled in
- * (PCL_ICF_BENCH_PEERS), Open3D's and OpenCV's (bench_peers.h). */
-const std::vector<std::string>& clusterMethods() {
-  static const std::vector<std::string> methods = [] {
-    std::vector<std::string> m = {"icf-fast", "icf-thesis",  "icf-fast+sac", "icf-sac",
-                                  "icp-p2p",  "icp-p2plane", "sacia+icp",    "prerej+icp"};
-#ifdef PCL_ICF_HAVE_PEERS
-    m.insert(m.end(), peerMethods().begin(), peerMethods().end());
-#endif
-    return m;
-  }();
-  return methods;
-}
+/** The names of the methods run on the case's cluster (clusterMethodTable), the default set. */
+const std::vector<std::string>& clusterMethods();
 
 bool isPeer(const std::string& m) {
 #ifdef PCL_ICF_HAVE_PEERS
@@ -460,34 +450,86 @@ pcl::icf::localization::LocalizerParams sceneParams(const Options& o) {
   return p;
 }
 
-/** Runs one method on one case: the localizer on the whole scene, ICF with the method's
- * strategy and fallback on the cluster, or a PCL pipeline on the cluster. */
+/** A method run on the case's cluster: its name and how it runs. */
+struct ClusterMethod {
+  std::string name;
+  std::function<MethodRun(const CloudXYZ::Ptr& cluster, const PreparedModel& model,
+                          const Options& o)>
+      run;
+};
+
+/** The methods run on the case's cluster, in the default order: ICF's (search strategy and
+ * SampleConsensus fallback), PCL's ICP and sample consensus pipelines and, when compiled in
+ * (PCL_ICF_BENCH_PEERS), Open3D's and OpenCV's (bench_peers.h). */
+const std::vector<ClusterMethod>& clusterMethodTable() {
+  static const std::vector<ClusterMethod> table = [] {
+    using pcl::icf::FallbackPolicy;
+    using pcl::icf::SearchStrategy;
+    const auto icf = [](SearchStrategy strategy, FallbackPolicy fallback) {
+      return [=](const CloudXYZ::Ptr& cluster, const PreparedModel& model, const Options& o) {
+        pcl::icf::IcfParams p = icfParams(o);
+        p.strategy = strategy;
+        p.fallback = fallback;
+        return runIcf(cluster, model, p);
+      };
+    };
+    const auto icp = [](bool plane) {
+      return [=](const CloudXYZ::Ptr& cluster, const PreparedModel& model, const Options& o) {
+        return runIcp(cluster, model, plane, o.threads);
+      };
+    };
+    std::vector<ClusterMethod> t = {
+        {"icf-fast", icf(SearchStrategy::Fast, FallbackPolicy::Off)},
+        {"icf-thesis", icf(SearchStrategy::Thesis, FallbackPolicy::Off)},
+        {"icf-fast+sac", icf(SearchStrategy::Fast, FallbackPolicy::Auto)},
+        {"icf-sac", icf(SearchStrategy::Fast, FallbackPolicy::Always)},
+        {"icp-p2p", icp(false)},
+        {"icp-p2plane", icp(true)},
+        {"sacia+icp",
+         [](const CloudXYZ::Ptr& cluster, const PreparedModel& model, const Options& o) {
+           pcl::icf::SacParams sac = o.sac;
+           sac.method = pcl::icf::SacMethod::InitialAlignment;
+           sac.max_iterations = o.ia_iterations;
+           return runSacIcp(cluster, model, sac, o.threads);
+         }},
+        {"prerej+icp",
+         [](const CloudXYZ::Ptr& cluster, const PreparedModel& model, const Options& o) {
+           return runSacIcp(cluster, model, o.sac, o.threads);
+         }},
+    };
+#ifdef PCL_ICF_HAVE_PEERS
+    for (const std::string& name : peerMethods())
+      t.push_back({name, [name](const CloudXYZ::Ptr& cluster, const PreparedModel& model,
+                                const Options& o) {
+                     return runPeer(name, cluster, model, o.sac.voxel_size,
+                                    static_cast<int>(o.sac.seed), o.threads);
+                   }});
+#endif
+    return t;
+  }();
+  return table;
+}
+
+const std::vector<std::string>& clusterMethods() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const ClusterMethod& m : clusterMethodTable())
+      n.push_back(m.name);
+    return n;
+  }();
+  return names;
+}
+
+/** Runs one method on one case: the localizer on the whole scene, or a cluster method of
+ * clusterMethodTable on the case's cluster. */
 MethodRun runMethod(const std::string& m, const CaseInput& in, const PreparedModel& model,
                     const Options& o) {
   if (m == kSceneMethod)
     return runScene(in.scene, model, sceneParams(o));
-  const CloudXYZ::Ptr& cluster = in.cluster;
-  if (m.rfind("icf-", 0) == 0) {
-    pcl::icf::IcfParams p = icfParams(o);
-    p.strategy =
-        m == "icf-thesis" ? pcl::icf::SearchStrategy::Thesis : pcl::icf::SearchStrategy::Fast;
-    p.fallback = m == "icf-fast+sac" ? pcl::icf::FallbackPolicy::Auto
-                 : m == "icf-sac"    ? pcl::icf::FallbackPolicy::Always
-                                     : pcl::icf::FallbackPolicy::Off;
-    return runIcf(cluster, model, p);
-  }
-  if (m == "icp-p2p" || m == "icp-p2plane")
-    return runIcp(cluster, model, m == "icp-p2plane", o.threads);
-#ifdef PCL_ICF_HAVE_PEERS
-  if (isPeer(m))
-    return runPeer(m, cluster, model, o.sac.voxel_size, static_cast<int>(o.sac.seed), o.threads);
-#endif
-  pcl::icf::SacParams sac = o.sac;
-  if (m == "sacia+icp") {
-    sac.method = pcl::icf::SacMethod::InitialAlignment;
-    sac.max_iterations = o.ia_iterations;
-  }
-  return runSacIcp(cluster, model, sac, o.threads);
+  for (const ClusterMethod& method : clusterMethodTable())
+    if (method.name == m)
+      return method.run(in.cluster, model, o);
+  throw std::logic_error("runMethod: unknown method " + m);
 }
 
 /** The method's run, repeated o.repeat times (icf-thesis once) for its median time; every

@@ -177,21 +177,17 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
         std::max(icf.refinement.final_inlier_distance, hp.fine_start_radius);
     icf.refinement.max_iterations = std::min(icf.refinement.max_iterations, hp.fine_iterations);
   }
-  const Eigen::Isometry3f guess =
-      start ? start->inverse(Eigen::Isometry) : Eigen::Isometry3f::Identity();
-  StartCheck worth_refining;
+  PoseEstimateOptions options;
+  if (start)  // the hypothesis's pose is where the refinement starts (scene -> model)
+    options.guess = start->inverse(Eigen::Isometry);
   // A start worth refining never needs more than an accepted pose.
   const double refine_at = std::min(params.refine_min_confidence, params.min_confidence);
   if (refine_at > 0.0)
-    worth_refining = [&, refine_at](const Eigen::Isometry3f& scene_to_model) {
+    options.worth_refining = [&, refine_at](const Eigen::Isometry3f& scene_to_model) {
       return explainDepth(model, scene_to_model.inverse(Eigen::Isometry), image,
                           params.verification)
                  .confidence >= refine_at;
     };
-  PoseEstimateOptions options;
-  if (start)
-    options.guess = guess;
-  options.worth_refining = worth_refining;
   c.icf = estimatePose(model, points, kCameraAtOrigin, icf, options);
   if (c.icf.status == IcfStatus::TooFewPoints) {
     c.reason = "too few points (" + std::to_string(c.icf.points) + ")";

@@ -2,9 +2,6 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
-#include <pcl/icf/global_search.h>
-#include <pcl/icf/localization/colour_histogram.h>
-#include <pcl/icf/pose_verification.h>
 #include <pcl/icf/usable_point.h>
 #include <pcl/point_types.h>
 #include <pcl_icf_internal/parameter_check.h>
@@ -19,8 +16,6 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
-#include <limits>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 

@@ -1,3 +1,33 @@
+# The linker. GNU ld spends 10-12 s on each of our executables (PCL, VTK and OpenMPI bring some
+# hundred shared libraries); LLVM's lld links the same one in under a second, gold in about one.
+# PCL_ICF_LINKER: lld, gold or bfd (the compiler's default); the first of lld, gold that the
+# compiler accepts when unset. Under lld the Python module is linked without pybind11's LTO
+# (python/CMakeLists.txt): lld cannot read GCC's LTO objects.
+include(CheckCXXSourceCompiles)
+function(pcl_icf_linker_works linker result)
+  set(CMAKE_REQUIRED_LINK_OPTIONS -fuse-ld=${linker})
+  check_cxx_source_compiles("int main() { return 0; }" ${result})
+endfunction()
+if(NOT DEFINED PCL_ICF_LINKER)
+  set(chosen bfd)
+  foreach(candidate lld gold)
+    pcl_icf_linker_works(${candidate} PCL_ICF_HAVE_LINKER_${candidate})
+    if(PCL_ICF_HAVE_LINKER_${candidate})
+      set(chosen ${candidate})
+      break()
+    endif()
+  endforeach()
+  set(PCL_ICF_LINKER ${chosen} CACHE STRING "Linker: lld, gold or bfd (the compiler's default)")
+endif()
+set_property(CACHE PCL_ICF_LINKER PROPERTY STRINGS lld gold bfd)
+if(NOT PCL_ICF_LINKER MATCHES "^(lld|gold|bfd)$")
+  message(FATAL_ERROR "PCL_ICF_LINKER=${PCL_ICF_LINKER}: expected lld, gold or bfd")
+endif()
+if(NOT PCL_ICF_LINKER STREQUAL "bfd")
+  add_link_options(-fuse-ld=${PCL_ICF_LINKER})
+endif()
+message(STATUS "pcl_icf: linking with ${PCL_ICF_LINKER}")
+
 # Warnings and sanitizers for our own targets only (PCL's headers are SYSTEM includes).
 function(pcl_icf_target_defaults target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic)

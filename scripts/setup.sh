@@ -7,7 +7,7 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libpcl-dev libopenmpi-dev openmpi-bin libeigen3-dev libembree-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  clang clang-format libclang-rt-14-dev libomp-14-dev
+  clang clang-format libclang-rt-14-dev libomp-14-dev lld
   xvfb xauth gnuplot-nox
   nlohmann-json3-dev zlib1g-dev libpng-dev
   python3-dev python3-pybind11 python3-numpy python3-pytest

@@ -2,14 +2,15 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
-#include <pcl/icf/global_search.h>
-#include <pcl/icf/rigid_transform.h>
+#include <pcl/icf/registration/global_search.h>
+#include <pcl/icf/registration/rigid_transform.h>
+#include <pcl/icf/registration/usable_point.h>
 #include <pcl/icf/tracking/object_tracker.h>
-#include <pcl/icf/usable_point.h>
 #include <pcl/point_types.h>
 #include <pcl_icf_internal/grown_model_box.h>
 #include <pcl_icf_internal/parameter_check.h>
 #include <pcl_icf_internal/scene_view.h>
+#include <pcl_icf_internal/track_steps.h>
 
 #include <omp.h>
 
@@ -424,38 +425,35 @@ TrackedFrame ObjectTracker::track(const pcl::PointCloud<PointT>& frame) {
   for (std::size_t k = 0; k < objects_.size(); ++k) {
     Object& object = objects_[k];
     ObjectTrack& out = outs[k];
-    bool ok = refined_ok[k] != 0;
-    bool by_search = false;
-    // A failed refinement re-acquires near the last pose, then searches, at once (occlusion, a
-    // fast move); a lost object is re-acquired every frame for reacquire_frames frames, and
-    // searched every search_interval frames.
-    const bool may_search = out.refined || object.frames_lost % params_.search_interval == 0;
-    const bool may_reacquire = object.last_seen && params_.reacquire_frames > 0 &&
-                               (out.refined || object.frames_lost < params_.reacquire_frames);
-    if (!ok && (may_search || may_reacquire)) {
+    const bool refined = refined_ok[k] != 0;
+    // The rules (what to try, where the object stands after) are internal::planRecovery and
+    // internal::stepTrack; this loop runs the attempts they ask for.
+    const internal::TrackMemory before{out.refined, object.last_seen.has_value(), object.ever_found,
+                                       object.frames_lost};
+    bool recovered = false;
+    const internal::RecoveryPlan plan =
+        refined ? internal::RecoveryPlan{}
+                : internal::planRecovery(before, params_.search_interval, params_.reacquire_frames);
+    if (plan.reacquire || plan.search) {
       const std::vector<int> explained = explainedByOthers(view, image, table, k, refined_ok);
-      if (may_reacquire) {
+      if (plan.reacquire) {
         if (image.empty())
           image = depthImage(view, table);
-        ok = reacquire(view, image, table, explained, object, out);
+        recovered = reacquire(view, image, table, explained, object, out);
       }
-      if (!ok && may_search)
-        ok = search(frame, view, object, explained, out);
-      by_search = ok;
+      if (!recovered && plan.search)
+        recovered = search(frame, view, object, explained, out);
     }
-    if (ok) {
-      out.state = !by_search            ? TrackState::Tracking
-                  : (object.ever_found) ? TrackState::Refound
-                                        : TrackState::Found;
-      object.ever_found = true;
-      object.frames_lost = 0;
+    const internal::TrackStep step = internal::stepTrack(before, refined, recovered);
+    out.state = step.state;
+    object.ever_found = step.after.ever_found;
+    object.frames_lost = step.after.frames_lost;
+    if (step.after.has_pose) {
       object.last_seen = object.last;
       out.pose = view.camera_to_scene * *object.last;
     } else {
       object.last.reset();
       object.previous.reset();
-      out.state = object.ever_found ? TrackState::Lost : TrackState::Searching;
-      ++object.frames_lost;
     }
     out.frames_lost = object.frames_lost;
   }

@@ -9,10 +9,10 @@
 #pragma once
 
 #include <pcl/console/print.h>
-#include <pcl/icf/closest_face_query.h>
-#include <pcl/icf/face_mesh.h>
 #include <pcl/icf/io/mesh_io.h>
 #include <pcl/icf/io/scene_io.h>
+#include <pcl/icf/registration/closest_face_query.h>
+#include <pcl/icf/registration/face_mesh.h>
 
 #include <unistd.h>
 

@@ -22,8 +22,8 @@
 #include "fuzz_common.h"
 
 #include <pcl/conversions.h>
-#include <pcl/icf/estimate_pose.h>
-#include <pcl/icf/icf_model.h>
+#include <pcl/icf/registration/estimate_pose.h>
+#include <pcl/icf/registration/icf_model.h>
 #include <pcl/point_types.h>
 
 #include <cstring>

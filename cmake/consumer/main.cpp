@@ -1,8 +1,10 @@
 // Builds a one-triangle mesh and asks the installed library for a closest face, and the
-// evaluation library for the MSSD of a known shift.
+// evaluation library for the MSSD of a known shift; pcl::IterativeClosestFace comes from its
+// PCL-facing include.
 #include <pcl/conversions.h>
-#include <pcl/icf/closest_face_query.h>
 #include <pcl/icf/evaluation/bop_pose_errors.h>
+#include <pcl/icf/iterative_closest_face.h>
+#include <pcl/icf/registration/closest_face_query.h>
 #include <pcl/point_types.h>
 #include <iostream>
 int main() {
@@ -21,6 +23,8 @@ int main() {
       pcl::icf::evaluation::mssd(shifted, Eigen::Isometry3d::Identity(), {{0, 0, 0}, {1, 0, 0}},
                                  {Eigen::Isometry3d::Identity()});
   std::cout << "consumer: MSSD of a (3, 4, 0) shift " << mssd << "\n";
+  const pcl::IterativeClosestFace<pcl::PointXYZ> icf;
+  std::cout << "consumer: " << icf.getClassName() << "\n";
   return hit.face == 0 && std::abs(hit.distance - 1.f) < 1e-6f && std::abs(mssd - 5.0) < 1e-12 ? 0
                                                                                                : 1;
 }

@@ -9,7 +9,7 @@
 // (renderModelDepth), the one the depth verification uses.
 #include <pcl/icf/evaluation/bop_pose_errors.h>
 
-#include <pcl/icf/depth_verification.h>
+#include <pcl/icf/verification/depth_verification.h>
 
 #include <algorithm>
 #include <cmath>

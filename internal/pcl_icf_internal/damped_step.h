@@ -5,9 +5,9 @@
 #pragma once
 
 /** \file
- * \brief Internal to registration_icf (not installed): the step of the refinement
+ * \brief Internal to registration (not installed): the step of the refinement
  * (refinement.h, doc/icf.md eq. 6-7), exposed to unit tests. Defined in
- * registration_icf/src/refinement.cpp. */
+ * registration/src/refinement.cpp. */
 
 #include <Eigen/Core>
 

@@ -10,7 +10,7 @@
  * on (the localizer's hypotheses, the tracker's predicted poses). Tighter than a sphere beside
  * a neighbour: a tall cup's sphere reaches a box beside it. */
 
-#include <pcl/icf/icf_model.h>
+#include <pcl/icf/registration/icf_model.h>
 
 #include <Eigen/Geometry>
 

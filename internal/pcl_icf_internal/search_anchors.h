@@ -5,12 +5,12 @@
 #pragma once
 
 /** \file
- * \brief Internal to registration_icf (not installed): the pieces of the fast global search
+ * \brief Internal to registration (not installed): the pieces of the fast global search
  * (global_search.h, doc/icf.md section 4) that estimatePose shares and unit tests check one by
- * one. Defined in registration_icf/src/global_search.cpp. */
+ * one. Defined in registration/src/global_search.cpp. */
 
-#include <pcl/icf/distance_field.h>
-#include <pcl/icf/global_search.h>
+#include <pcl/icf/registration/distance_field.h>
+#include <pcl/icf/registration/global_search.h>
 
 #include <Eigen/Geometry>
 

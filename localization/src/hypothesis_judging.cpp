@@ -4,11 +4,11 @@
  */
 #include "hypothesis_judging.h"
 
-#include <pcl/icf/estimate_pose.h>
 #include <pcl/icf/localization/colour_histogram.h>
 #include <pcl/icf/localization/pose_alternatives.h>
-#include <pcl/icf/pose_verification.h>
-#include <pcl/icf/usable_point.h>
+#include <pcl/icf/registration/estimate_pose.h>
+#include <pcl/icf/registration/usable_point.h>
+#include <pcl/icf/verification/pose_verification.h>
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
-#include <pcl/icf/usable_point.h>
+#include <pcl/icf/registration/usable_point.h>
 #include <pcl/point_types.h>
 #include <pcl_icf_internal/parameter_check.h>
 

@@ -2,8 +2,8 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
-#include <pcl/icf/global_search.h>
 #include <pcl/icf/localization/pose_alternatives.h>
+#include <pcl/icf/registration/global_search.h>
 #include <pcl_icf_internal/parameter_check.h>
 
 #include <Eigen/Eigenvalues>

@@ -4,9 +4,9 @@
  */
 #include "scene_checks.h"
 
-#include <pcl/icf/global_search.h>
+#include <pcl/icf/registration/global_search.h>
+#include <pcl/icf/registration/usable_point.h>
 #include <pcl/icf/segmentation/convexity_split.h>
-#include <pcl/icf/usable_point.h>
 #include <pcl/point_types.h>
 
 #include <algorithm>

@@ -11,10 +11,10 @@
  * explain taken out. */
 
 #include <pcl/PointIndices.h>
-#include <pcl/icf/depth_image.h>
-#include <pcl/icf/icf_model.h>
 #include <pcl/icf/localization/object_localizer.h>
+#include <pcl/icf/registration/icf_model.h>
 #include <pcl/icf/segmentation/tabletop_segmentation.h>
+#include <pcl/icf/verification/depth_image.h>
 #include <pcl_icf_internal/scene_view.h>
 
 #include <cstddef>

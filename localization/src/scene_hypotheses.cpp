@@ -4,8 +4,8 @@
  */
 #include "scene_hypotheses.h"
 
-#include <pcl/icf/refinement.h>
-#include <pcl/icf/usable_point.h>
+#include <pcl/icf/registration/refinement.h>
+#include <pcl/icf/registration/usable_point.h>
 #include <pcl_icf_internal/grown_model_box.h>
 #include <pcl_icf_internal/parameter_check.h>
 

@@ -10,12 +10,12 @@
  * (LocalizerTuning::hypotheses, doc/localizer.md "Hypotheses"). */
 
 #include <pcl/PointIndices.h>
-#include <pcl/icf/depth_image.h>
-#include <pcl/icf/depth_verification.h>
-#include <pcl/icf/global_search.h>
-#include <pcl/icf/icf_model.h>
 #include <pcl/icf/localization/localizer_tuning.h>
+#include <pcl/icf/registration/global_search.h>
+#include <pcl/icf/registration/icf_model.h>
 #include <pcl/icf/segmentation/tabletop_segmentation.h>
+#include <pcl/icf/verification/depth_image.h>
+#include <pcl/icf/verification/depth_verification.h>
 #include <pcl_icf_internal/scene_view.h>
 
 #include <Eigen/Geometry>

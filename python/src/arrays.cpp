@@ -5,7 +5,7 @@
 #include "arrays.h"
 
 #include <pcl/conversions.h>
-#include <pcl/icf/rigid_transform.h>
+#include <pcl/icf/registration/rigid_transform.h>
 
 #include <cmath>
 #include <cstdint>

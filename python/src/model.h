@@ -5,7 +5,7 @@
 #pragma once
 
 #include <pcl/PolygonMesh.h>
-#include <pcl/icf/icf_model.h>
+#include <pcl/icf/registration/icf_model.h>
 
 #include <cstddef>
 #include <string>

@@ -16,13 +16,13 @@
 #include <pybind11/stl.h>
 
 #include <pcl/conversions.h>
-#include <pcl/icf/face_mesh.h>
-#include <pcl/icf/icf_model.h>
 #include <pcl/icf/io/mesh_io.h>
 #include <pcl/icf/io/scene_io.h>
 #include <pcl/icf/localization/object_localizer.h>
 #include <pcl/icf/localization/objects_localizer.h>
-#include <pcl/icf/model_file.h>
+#include <pcl/icf/registration/face_mesh.h>
+#include <pcl/icf/registration/icf_model.h>
+#include <pcl/icf/registration/model_file.h>
 
 #include <chrono>
 #include <cstddef>

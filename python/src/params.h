@@ -6,8 +6,8 @@
 
 #include <pybind11/pybind11.h>
 
-#include <pcl/icf/estimate_pose.h>
 #include <pcl/icf/localization/object_localizer.h>
+#include <pcl/icf/registration/estimate_pose.h>
 #include <pcl/icf/tracking/object_tracker.h>
 
 namespace pcl_icf_python {

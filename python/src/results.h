@@ -6,7 +6,7 @@
 
 #include <pybind11/pybind11.h>
 
-#include <pcl/icf/depth_verification.h>
+#include <pcl/icf/verification/depth_verification.h>
 
 namespace pcl_icf_python {
 

@@ -3,8 +3,8 @@
 #include "test_paths.h"
 
 #include <pcl/conversions.h>
-#include <pcl/icf/face_mesh.h>
 #include <pcl/icf/io/mesh_io.h>
+#include <pcl/icf/registration/face_mesh.h>
 #include <pcl/io/vtk_lib_io.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>

@@ -11,13 +11,13 @@
 
 #include <pcl/common/transforms.h>
 #include <pcl/conversions.h>
-#include <pcl/icf/closest_face_query.h>
-#include <pcl/icf/estimate_pose.h>
-#include <pcl/icf/face_mesh.h>
-#include <pcl/icf/icf_model.h>
 #include <pcl/icf/io/mesh_io.h>
 #include <pcl/icf/io/scene_io.h>
 #include <pcl/icf/localization/object_localizer.h>
+#include <pcl/icf/registration/closest_face_query.h>
+#include <pcl/icf/registration/estimate_pose.h>
+#include <pcl/icf/registration/face_mesh.h>
+#include <pcl/icf/registration/icf_model.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
 

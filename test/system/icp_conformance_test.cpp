@@ -16,7 +16,7 @@
 #include <pcl/features/normal_3d.h>
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/icf/io/mesh_io.h>
-#include <pcl/icf/iterative_closest_face.h>
+#include <pcl/icf/registration/iterative_closest_face.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/registration/ia_ransac.h>
 #include <pcl/registration/icp.h>

@@ -7,9 +7,9 @@
 #include "test_paths.h"
 
 #include <pcl/conversions.h>
-#include <pcl/icf/face_mesh.h>
 #include <pcl/icf/io/mesh_io.h>
 #include <pcl/icf/io/scene_io.h>
+#include <pcl/icf/registration/face_mesh.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
 #include <pcl/io/vtk_lib_io.h>

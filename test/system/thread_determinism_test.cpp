@@ -5,9 +5,9 @@
 #include "synthetic/depth_camera.h"
 #include "synthetic/synthetic_models.h"
 
-#include <pcl/icf/estimate_pose.h>
-#include <pcl/icf/icf_model.h>
 #include <pcl/icf/localization/object_localizer.h>
+#include <pcl/icf/registration/estimate_pose.h>
+#include <pcl/icf/registration/icf_model.h>
 
 #include <gtest/gtest.h>
 

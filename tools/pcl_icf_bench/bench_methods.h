@@ -9,9 +9,9 @@
 #include "bench_manifest.h"
 
 #include <pcl/PolygonMesh.h>
-#include <pcl/icf/icf_model.h>
-#include <pcl/icf/iterative_closest_face.h>
-#include <pcl/icf/sample_consensus_alignment.h>
+#include <pcl/icf/registration/icf_model.h>
+#include <pcl/icf/registration/iterative_closest_face.h>
+#include <pcl/icf/registration/sample_consensus_alignment.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 

@@ -4,9 +4,9 @@
  */
 #include "bop_bench_data.h"
 
-#include <pcl/icf/face_mesh.h>
 #include <pcl/icf/io/mesh_io.h>
-#include <pcl/icf/model_file.h>
+#include <pcl/icf/registration/face_mesh.h>
+#include <pcl/icf/registration/model_file.h>
 
 #include <cmath>
 #include <cstdio>

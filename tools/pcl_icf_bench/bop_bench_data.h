@@ -10,8 +10,8 @@
  * pcl/icf/io/bop_dataset.h. */
 
 #include <pcl/icf/evaluation/bop_pose_errors.h>
-#include <pcl/icf/icf_model.h>
 #include <pcl/icf/io/bop_dataset.h>
+#include <pcl/icf/registration/icf_model.h>
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>

@@ -8,8 +8,8 @@
 
 #include <pcl/common/io.h>
 #include <pcl/common/transforms.h>
-#include <pcl/icf/depth_image.h>
-#include <pcl/icf/face_mesh.h>
+#include <pcl/icf/registration/face_mesh.h>
+#include <pcl/icf/verification/depth_image.h>
 #include <pcl/recognition/hv/hv_go.h>
 
 #include <algorithm>

@@ -5,7 +5,7 @@
 // Exit codes: 0 pose found (and within 5 mm / 3 degrees of the truth when given), 1 nothing
 // accepted or off the truth, 2 bad usage or bad input.
 #include <pcl/icf/io/mesh_io.h>
-#include <pcl/icf/iterative_closest_face.h>
+#include <pcl/icf/registration/iterative_closest_face.h>
 #include <pcl/io/pcd_io.h>
 
 #include <Eigen/Geometry>

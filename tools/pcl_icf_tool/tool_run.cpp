@@ -4,14 +4,14 @@
  */
 #include "tool_run.h"
 
-#include <pcl/icf/model_file.h>
+#include <pcl/icf/registration/model_file.h>
 
 #include "tool_mesh.h"
 #include "tool_output.h"
 
-#include <pcl/icf/face_mesh.h>
 #include <pcl/icf/io/bop_dataset.h>
 #include <pcl/icf/io/mesh_io.h>
+#include <pcl/icf/registration/face_mesh.h>
 #include <pcl/icf/segmentation/finite_indices.h>
 #include <pcl/icf/segmentation/scene_extent.h>
 

@@ -13,9 +13,9 @@
 #include "tool_render.h"
 
 #include <pcl/PolygonMesh.h>
-#include <pcl/icf/icf_model.h>
 #include <pcl/icf/io/scene_io.h>
 #include <pcl/icf/localization/object_localizer.h>
+#include <pcl/icf/registration/icf_model.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 

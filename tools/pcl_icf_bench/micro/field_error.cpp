@@ -3,8 +3,8 @@
 //   build/release/bench/pcl_icf_field_error
 #include "synthetic/synthetic_models.h"
 
-#include <pcl/icf/distance_field.h>
 #include <pcl/icf/io/mesh_io.h>
+#include <pcl/icf/registration/distance_field.h>
 
 #include <algorithm>
 #include <cstdio>

@@ -7,7 +7,7 @@
 #include "synthetic/pose_error.h"
 #include "synthetic/synthetic_models.h"
 
-#include <pcl/icf/iterative_closest_face.h>
+#include <pcl/icf/registration/iterative_closest_face.h>
 #include <pcl/registration/icp.h>
 
 #include <algorithm>

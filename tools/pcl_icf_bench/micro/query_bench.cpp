@@ -5,9 +5,9 @@
 //   build/release/bench/pcl_icf_query_bench --benchmark_min_time=1
 #include "synthetic/synthetic_models.h"
 
-#include <pcl/icf/closest_face_query.h>
-#include <pcl/icf/distance_field.h>
 #include <pcl/icf/io/mesh_io.h>
+#include <pcl/icf/registration/closest_face_query.h>
+#include <pcl/icf/registration/distance_field.h>
 
 #include <benchmark/benchmark.h>
 

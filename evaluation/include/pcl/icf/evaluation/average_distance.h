@@ -10,7 +10,7 @@
  * one pcl_icf's suites score with (doc/BENCHMARKS.md, "the project's rule"). A pose maps model
  * coordinates to camera coordinates; lengths in any one unit, the errors come out in it. */
 
-#include <pcl/icf/icf_model.h>
+#include <pcl/icf/registration/icf_model.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

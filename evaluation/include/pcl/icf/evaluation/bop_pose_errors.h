@@ -15,7 +15,7 @@
  * metres): the errors come out in it (VSD is a fraction, MSPD in pixels). A pose maps model
  * coordinates to camera coordinates (BOP's cam_R_m2c, cam_t_m2c). */
 
-#include <pcl/icf/icf_model.h>
+#include <pcl/icf/registration/icf_model.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

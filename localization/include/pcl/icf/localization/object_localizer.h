@@ -4,15 +4,15 @@
  */
 #pragma once
 
-#include <pcl/icf/depth_verification.h>
-#include <pcl/icf/estimate_pose.h>
-#include <pcl/icf/icf_model.h>
 #include <pcl/icf/localization/localizer_tuning.h>
 #include <pcl/icf/localization/pose_alternatives.h>
-#include <pcl/icf/rigid_transform.h>
+#include <pcl/icf/registration/estimate_pose.h>
+#include <pcl/icf/registration/icf_model.h>
+#include <pcl/icf/registration/rigid_transform.h>
 #include <pcl/icf/segmentation/convexity_split.h>
 #include <pcl/icf/segmentation/precompiled_point_types.h>
 #include <pcl/icf/segmentation/tabletop_segmentation.h>
+#include <pcl/icf/verification/depth_verification.h>
 #include <pcl/point_cloud.h>
 
 #include <Eigen/Core>

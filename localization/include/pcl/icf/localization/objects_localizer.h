@@ -13,8 +13,8 @@
  * reason "explained better by NAME instance K". BOP's task "ViVo" (an image and a list of
  * objects with instance counts in, every pose with a score out). */
 
-#include <pcl/icf/icf_model.h>
 #include <pcl/icf/localization/object_localizer.h>
+#include <pcl/icf/registration/icf_model.h>
 #include <pcl/icf/segmentation/tabletop_segmentation.h>
 #include <pcl/point_cloud.h>
 

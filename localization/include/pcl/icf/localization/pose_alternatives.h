@@ -10,9 +10,9 @@
  * axis). The thesis's objects were chosen so that the pose was unique up to their symmetries;
  * a grasp planner given a near-symmetric object needs the alternatives with their scores. */
 
-#include <pcl/icf/depth_verification.h>
-#include <pcl/icf/icf_model.h>
-#include <pcl/icf/refinement.h>
+#include <pcl/icf/registration/icf_model.h>
+#include <pcl/icf/registration/refinement.h>
+#include <pcl/icf/verification/depth_verification.h>
 
 #include <Eigen/Geometry>
 

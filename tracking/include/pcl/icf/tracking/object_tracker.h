@@ -16,11 +16,11 @@
  * fast, is usually near where it was), then to a search of the whole scene;
  * while an object stays lost it is searched again every search_interval frames. */
 
-#include <pcl/icf/depth_image.h>
-#include <pcl/icf/depth_verification.h>
-#include <pcl/icf/icf_model.h>
 #include <pcl/icf/localization/object_localizer.h>
-#include <pcl/icf/refinement.h>
+#include <pcl/icf/registration/icf_model.h>
+#include <pcl/icf/registration/refinement.h>
+#include <pcl/icf/verification/depth_image.h>
+#include <pcl/icf/verification/depth_verification.h>
 #include <pcl/point_cloud.h>
 
 #include <Eigen/Geometry>

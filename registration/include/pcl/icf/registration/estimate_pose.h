@@ -1,0 +1,225 @@
+/*
+ * pcl_icf — Iterative Closest Face registration for PCL.
+ * SPDX-License-Identifier: BSD-3-Clause
+ */
+#pragma once
+
+#include <pcl/icf/registration/global_search.h>
+#include <pcl/icf/registration/icf_model.h>
+#include <pcl/icf/registration/objective.h>
+#include <pcl/icf/registration/refinement.h>
+#include <pcl/icf/registration/sample_consensus_alignment.h>
+#include <pcl/icf/registration/thesis_search.h>
+#include <pcl/icf/registration/usable_point.h>
+#include <pcl/icf/verification/depth_verification.h>
+#include <pcl/icf/verification/pose_verification.h>
+
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pcl {
+namespace icf {
+
+/** \brief How the pose is searched when there is no initial guess. */
+enum class SearchStrategy {
+  Fast,    ///< uniform SO(3) x visible-centroid placement on the field (doc/icf.md section 4)
+  Thesis,  ///< the thesis's three-loop stochastic kernel search (section 7)
+};
+
+/** \brief Parse "fast" / "thesis"; throws std::invalid_argument otherwise. */
+SearchStrategy parseSearchStrategy(const std::string& name);
+std::string toString(SearchStrategy strategy);
+
+/** \brief When the feature-based sample-consensus alignment (sample_consensus_alignment.h)
+ * runs inside estimatePose. It never runs when an initial guess is given. */
+enum class FallbackPolicy {
+  Off,     ///< never: the search's pose is the answer
+  Auto,    ///< default: when the searched and refined pose is not accepted, also try SAC + ICF
+           ///< and keep the better of the two (see estimatePose)
+  Always,  ///< SAC instead of the global search, then ICF
+};
+
+/** \brief Parse "off" / "auto" / "always"; throws std::invalid_argument otherwise. */
+FallbackPolicy parseFallbackPolicy(const std::string& name);
+std::string toString(FallbackPolicy policy);
+
+/** \brief When a pose is accepted (hasConverged() is true). Lengths in scene units. */
+struct AcceptanceParams {
+  /** Scene points within this distance of the posed model are inliers; a visible model
+   * sample with a scene point within it is covered. */
+  float inlier_distance = 0.01f;
+  /** At least this share of the model's camera-facing surface must be covered. This, not the
+   * share of the cluster explained, decides: a cluster that holds other objects too can
+   * still be accepted when the target is well explained. */
+  double min_surface_coverage = 0.6;
+  /** RMS distance of the inliers at most this. */
+  double max_rmse = 0.006;
+  /** At least this many inliers. */
+  std::size_t min_inliers = 30;
+  /** Also apply the far-point gate: reject when more than gate_max_far_points points lie
+   * farther than gate_distance (27 mm) from the posed model (PoseQuality::far_points). It is
+   * the ICF thesis's acceptance test (Armenise, KTH 2013, section 6.2). Off by default: it assumes
+   * the cluster holds nothing but the target. */
+  bool far_point_gate = false;
+  float gate_distance = 0.027f;
+  int gate_max_far_points = 5;
+  VisibilityParams visibility;
+  /** Reject a pose the camera sees through: of the posed model's pixels where the camera could
+   * have seen it (explainDepth's supported, seen_through and below_support), the share where
+   * the measured depth lies behind it (PoseQuality::seen_through) must be at most this. A
+   * partial view fitted onto the wrong side of a model can cover its points well (inliers,
+   * rmse, coverage) while the model hides other points of the view behind it. 1 turns the
+   * check off. Calibrated on every bench suite (doc/experiments/2026-11-27-seen-through.md, "Seen
+   * through"). */
+  double max_seen_through = 0.05;
+  /** Tolerances of that check (depth_verification.h: the sensor's noise at each depth and the
+   * model's size). */
+  DepthVerificationParams depth;
+
+  void validate() const;
+};
+
+/** \brief Everything estimatePose needs besides the data. Defaults documented per field;
+ * lengths in scene units (metres). */
+struct IcfParams {
+  SearchStrategy strategy = SearchStrategy::Fast;
+  GlobalSearchParams global;
+  ThesisSearchParams thesis;
+  ObjectiveParams objective;
+  RefinementParams refinement;
+  /** Best hypotheses of the fast search refined with exact faces before the final choice. */
+  std::size_t exact_candidates = 3;
+  /** Points per iteration when refining those candidates (the final refinement uses
+   * refinement.max_points). */
+  std::size_t candidate_points = 1000;
+  /** With the caller's worth_refining check (estimatePose), the candidates are first checked
+   * as the global search left them: when it refuses every one, none is refined with exact
+   * faces and the search's best is the start as it is (which the same check then refuses:
+   * the cluster's search ends). Most clusters of a real scene are other objects, and their
+   * candidates' exact refinement was a quarter of a frame's time
+   * (doc/experiments/2026-11-28-real-frame-budget-and-time-bars.md, "A budget per frame"). false:
+   * the candidates are always refined. */
+  bool check_candidates = true;
+  /** Without a guess, the final refinement first runs on at most this many points (an evenly
+   * strided subset) through the whole Tukey schedule, then on refinement.max_points from the
+   * smallest radius (coarse to fine: a real cluster of 20-40k points costs 30 full-resolution
+   * iterations otherwise; doc/experiments/2026-11-27-real-frame-time.md, "Where the time goes"). 0:
+   * one refinement at full resolution. With a guess the refinement is ICP's: one stage, as
+   * configured. */
+  std::size_t coarse_points = 3000;
+  /** At most this many full-resolution iterations after the coarse stage (a pose that fits
+   * converges in 4-7 on real clusters; one that keeps moving is a misfit, and 30 more
+   * full-resolution iterations would not make it fit). */
+  int fine_iterations = 10;
+  AcceptanceParams acceptance;
+  /** When the SampleConsensus alignment runs (default Auto: only after a rejection). */
+  FallbackPolicy fallback = FallbackPolicy::Auto;
+  /** The SampleConsensus alignment used by the fallback; its own seed (sac.seed). */
+  SacParams sac;
+  std::uint64_t seed = 42;
+  int threads = 0;  ///< 0: all cores. Results do not depend on it.
+
+  /** \throws std::invalid_argument naming the field and value. */
+  void validate() const;
+};
+
+/** \brief Outcome of one estimation. */
+enum class IcfStatus {
+  NotRun,        ///< nothing estimated yet
+  Accepted,      ///< the pose passed the acceptance test
+  Rejected,      ///< a pose was found but failed the acceptance test
+  TooFewPoints,  ///< fewer finite scene points than needed (see IcfResult::points)
+  NoModel,       ///< no mesh was given
+};
+std::string toString(IcfStatus status);
+
+/** \brief The result of estimatePose / IterativeClosestFace::getResult. */
+struct IcfResult {
+  IcfStatus status = IcfStatus::NotRun;
+  /** Registration transform: scene points into the model frame (PCL's source -> target). */
+  Eigen::Matrix4f scene_to_model = Eigen::Matrix4f::Identity();
+  /** The model's pose in the scene (model frame -> scene frame): the inverse. */
+  Eigen::Matrix4f object_pose = Eigen::Matrix4f::Identity();
+  PoseQuality quality;  ///< measured at the final pose with exact distances
+  std::string method;   ///< "fast+icf", "thesis+icf", "sac+icf", "guess+icf"
+  int refinement_iterations = 0;
+  bool refinement_converged = false;
+  std::size_t points = 0;     ///< finite scene points used
+  double search_score = 0.0;  ///< the search's own score of its best hypothesis
+  /** The SampleConsensus fallback ran (policy Always, or Auto after a rejection), whether or
+   * not its pose was kept (method says which was). */
+  bool fallback_ran = false;
+  SacStatus sac_status = SacStatus::NotRun;  ///< its outcome when it ran
+  /** The caller's worth_refining check turned the final refinement down (estimatePose): the
+   * pose is the search's start as it was, Rejected, its quality not measured. */
+  bool refinement_skipped = false;
+  double time_ms = 0.0;
+
+  bool accepted() const { return status == IcfStatus::Accepted; }
+};
+
+/** \brief A caller's check of a search's start pose (scene -> model) before the final
+ * refinement: false when no refinement could make it acceptable, to save that refinement. */
+using StartCheck = std::function<bool(const Eigen::Isometry3f& scene_to_model)>;
+
+/** \brief What an estimatePose call may take besides the data and the parameters. */
+struct PoseEstimateOptions {
+  /** A scene-to-model start: then only the refinement runs (no search, no fallback). */
+  std::optional<Eigen::Isometry3f> guess;
+  IterationCallback callback;  ///< called after every refinement iteration
+  /** Called with every start pose of a search (the search's best, SAC's) before its final
+   * refinement, and with the fast search's candidates before their exact refinement
+   * (IcfParams::check_candidates); when it returns false that start is not refined nor measured
+   * (IcfResult::refinement_skipped; the start is reported as it is, Rejected), and a refused
+   * search start ends the search (no SAC fallback after it). Never called with a guess. The
+   * localizer passes its depth verification here (LocalizerParams::refine_min_confidence):
+   * most clusters of a real scene are other objects, and their final refinement was a third of
+   * a frame's time. */
+  StartCheck worth_refining;
+  /** The scene as a depth image with the scene's frame as the camera's, for the seen-through
+   * check; not owned, it must outlive the call. Without it, the points themselves are projected
+   * for a virtual camera at the call's camera looking at their centroid, at their own angular
+   * spacing. */
+  const DepthImage* camera_image = nullptr;
+};
+
+/** \brief Estimate the model's pose in a cluster of scene points (doc/icf.md): search (or
+ * start from PoseEstimateOptions::guess), refine by iterative closest face, measure, accept or
+ * reject.
+ *
+ * \param scene_points points of one cluster, scene frame and units; points with a NaN or
+ * infinite coordinate, or one beyond +-kMaxPointCoordinate, are left out (IcfResult::points
+ * counts the rest)
+ * \param camera the sensor's position in the scene frame (visibility)
+ * \param options a start, an iteration callback, the caller's check of start poses, the scene's
+ * depth image (PoseEstimateOptions)
+ *
+ * The SampleConsensus fallback (params.fallback, sample_consensus_alignment.h): with Auto, when
+ * the refined search result is not accepted, sampleConsensusAlign(params.sac) runs on the same
+ * points, its pose is refined the same way and measured; the accepted one is kept (the
+ * search's when both are), else the one covering more of the model's visible surface. With
+ * Always, SAC replaces the search (method "sac+icf"); when it finds nothing the refinement
+ * starts from the centroid start (model surface centroid on the cluster centroid, no
+ * rotation), which is rarely accepted. The model's features are built on first use and cached
+ * (cachedSacModel); SAC runs are serialised process-wide (PCL's aligners use rand()).
+ * Deterministic for params.seed and params.sac.seed and independent of params.threads.
+ *
+ * The seen-through check (AcceptanceParams::max_seen_through) compares every measured pose with
+ * the scene's depth image (PoseEstimateOptions::camera_image).
+ * \throws std::invalid_argument for parameters out of range or a guess with a non-finite
+ * entry. */
+IcfResult estimatePose(const IcfModel& model, const std::vector<Eigen::Vector3f>& scene_points,
+                       const Eigen::Vector3f& camera, const IcfParams& params,
+                       const PoseEstimateOptions& options = {});
+
+/** \brief Apply the acceptance rule to a measured quality (seen_through as estimatePose measured
+ * it; 0 when not measured). */
+bool isAcceptable(const PoseQuality& quality, const AcceptanceParams& params);
+
+}  // namespace icf
+}  // namespace pcl

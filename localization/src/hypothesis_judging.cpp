@@ -25,23 +25,22 @@ namespace {
 /** The localizer works in the camera's frame (localizeObject moves the scene there). */
 const Eigen::Vector3f kCameraAtOrigin = Eigen::Vector3f::Zero();
 
-/** The thesis's gate on one cluster: points farther than gate_distance from the posed model.
+/** The thesis's gate on one cluster: points farther than the gate's distance from the posed
+ * model.
  * A cluster of one object is counted whole; in a merged cluster only the points the model
  * claims: on its rendered silhouette and not in front of its surface. */
 int gateFarPoints(const std::vector<Eigen::Vector3f>& points, const IcfModel& model,
                   const Eigen::Isometry3f& scene_to_model, const ModelDepth& rendered,
-                  const DepthImage& image, const LocalizerParams& params, bool single_object) {
+                  const DepthImage& image, const FarPointGate& gate, bool single_object) {
   int far = 0;
   for (const auto& x : points) {
     if (!single_object) {
       int u = 0, v = 0;
       if (!image.pixelOf(x, u, v) || !rendered.covers(u, v) ||
-          x.z() < rendered.depth[static_cast<std::size_t>(v) * rendered.width + u] -
-                      params.gate_distance)
+          x.z() < rendered.depth[static_cast<std::size_t>(v) * rendered.width + u] - gate.distance)
         continue;
     }
-    if (model.index().closestFace(scene_to_model * x, params.gate_distance).distance >
-        params.gate_distance)
+    if (model.index().closestFace(scene_to_model * x, gate.distance).distance > gate.distance)
       ++far;
   }
   return far;
@@ -96,12 +95,11 @@ void describeTurn(const Eigen::Isometry3f& from, PoseAlternative& alt) {
 void resolveTurns(ClusterLocalization& c, const SceneView& view, const DepthImage& image,
                   const IcfModel& model, const PrincipalAxes& axes, const LocalizerParams& params) {
   const std::vector<Eigen::Vector3f> points = usablePoints(view, c.indices);
-  PoseAlternativeParams ap = params.alternatives;
-  ap.refinement = params.icf.refinement;
-  ap.verification = params.verification;
+  const PoseAlternativeParams& ap = params.alternatives;
+  const TurnChecks checks{params.icf.refinement, params.verification};
   const Eigen::Isometry3f found(c.icf.object_pose);
   std::vector<PoseAlternative> candidates =
-      turnedAlternatives(model, axes, points, found, c.verification, image, ap);
+      turnedAlternatives(model, axes, points, found, c.verification, image, ap, checks);
   if (candidates.empty())
     return;
   PoseAlternative self;
@@ -126,7 +124,7 @@ void resolveTurns(ClusterLocalization& c, const SceneView& view, const DepthImag
     c.icf.scene_to_model = scene_to_model.matrix();
     c.icf.quality = measurePoseQuality(model, points, scene_to_model, kCameraAtOrigin,
                                        params.icf.acceptance.inlier_distance,
-                                       params.icf.acceptance.gate_distance, params.icf.objective,
+                                       params.icf.acceptance.gate.distance, params.icf.objective,
                                        params.icf.acceptance.visibility);
     c.verification = winner.verification;
     c.score = c.verification.confidence * colour_factor;
@@ -151,7 +149,7 @@ std::string rejection(const ClusterLocalization& c, const LocalizerParams& param
   if (!c.gate_passed) {
     std::ostringstream gate;
     gate << (reason.empty() ? "" : " ") << "thesis gate (" << c.gate_far_points << " points beyond "
-         << params.gate_distance << ")";
+         << params.icf.acceptance.gate.distance << ")";
     reason += gate.str();
   }
   return reason;
@@ -169,6 +167,11 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
   const std::vector<Eigen::Vector3f> points = usablePoints(view, indices);
   IcfParams icf = params.icf;
   icf.threads = icf_threads;
+  // The gate is applied below, to the points the posed model claims (a merged cluster's other
+  // objects are not its far points), not by estimatePose to the whole crop.
+  icf.acceptance.gate.enabled = false;
+  // One verification: the seen-through check judges the depth with the same tolerances.
+  icf.acceptance.depth = params.verification;
   // A hypothesis is refined from its pose, on a strided subset of the points near it.
   if (start) {
     const SceneHypotheses& hp = params.tuning.hypotheses;
@@ -198,12 +201,11 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
   c.verification = explainDepth(rendered, image, 2.f * model.radius(), params.verification);
   c.explained = explainedPoints(view, indices, model, Eigen::Isometry3f(c.icf.scene_to_model),
                                 params.verification);
-  if (params.far_point_gate) {
+  const FarPointGate& gate = params.icf.acceptance.gate;
+  if (gate.enabled) {
     c.gate_far_points = gateFarPoints(points, model, Eigen::Isometry3f(c.icf.scene_to_model),
-                                      rendered, image, params, single_object);
-    const double allowed =
-        std::max<double>(params.gate_max_far_points, params.gate_max_far_fraction * points.size());
-    c.gate_passed = c.gate_far_points <= allowed;
+                                      rendered, image, gate, single_object);
+    c.gate_passed = c.gate_far_points <= gate.allowed(points.size());
   }
   double colour_factor = 1.0;
   if (expected && !view.colours.empty()) {

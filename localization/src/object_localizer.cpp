@@ -55,6 +55,12 @@ void LocalizerParams::useExactMeshSettings() {
   icf.global.keep = kExactMeshKeep;
 }
 
+IcfParams LocalizerParams::defaultIcf() {
+  IcfParams icf;
+  icf.acceptance.gate.max_fraction = FarPointGate::kLocalizerMaxFraction;
+  return icf;
+}
+
 void LocalizerParams::validate() const {
   const internal::ParameterCheck fail("localization::LocalizerParams");
   if (segment)
@@ -69,12 +75,6 @@ void LocalizerParams::validate() const {
     fail("min_confidence", min_confidence, "must lie in [0, 1]");
   if (!(refine_min_confidence >= 0.0 && refine_min_confidence <= 1.0))
     fail("refine_min_confidence", refine_min_confidence, "must lie in [0, 1]");
-  if (!(gate_distance > 0.f) || !std::isfinite(gate_distance))
-    fail("gate_distance", gate_distance, "must be positive and finite");
-  if (gate_max_far_points < 0)
-    fail("gate_max_far_points", gate_max_far_points, "must be >= 0");
-  if (!(gate_max_far_fraction >= 0.0 && gate_max_far_fraction <= 1.0))
-    fail("gate_max_far_fraction", gate_max_far_fraction, "must lie in [0, 1]");
   if (threads < 0 || threads > 1024)
     fail("threads", threads, "must lie in [0, 1024] (0 = all cores)");
   if (!(min_points_in_front >= 0.0 && min_points_in_front <= 1.0))

@@ -30,14 +30,12 @@ void PoseAlternativeParams::validate() const {
     fail("max_points", 0.0, "must be positive");
   if (!(quarter_turn_extent_ratio >= 1.f) || !std::isfinite(quarter_turn_extent_ratio))
     fail("quarter_turn_extent_ratio", quarter_turn_extent_ratio, "must be >= 1 and finite");
-  refinement.validate();
   if (field_points < 10)
     fail("field_points", field_points, "must be >= 10");
   if (!(fine_start_radius > 0.f && std::isfinite(fine_start_radius)))
     fail("fine_start_radius", fine_start_radius, "must be positive and finite");
   if (fine_iterations < 1)
     fail("fine_iterations", fine_iterations, "must be >= 1");
-  verification.validate();
 }
 
 PrincipalAxes principalAxes(const IcfModel& model) {
@@ -108,8 +106,11 @@ bool samePose(const Eigen::Isometry3f& a, const Eigen::Isometry3f& b,
 std::vector<PoseAlternative> turnedAlternatives(
     const IcfModel& model, const PrincipalAxes& principal,
     const std::vector<Eigen::Vector3f>& points, const Eigen::Isometry3f& object_pose,
-    const DepthExplanation& found, const DepthImage& image, const PoseAlternativeParams& params) {
+    const DepthExplanation& found, const DepthImage& image, const PoseAlternativeParams& params,
+    const TurnChecks& checks) {
   params.validate();
+  checks.refinement.validate();
+  checks.verification.validate();
   std::vector<PoseAlternative> out;
   if (points.empty() || image.empty())
     return out;
@@ -117,7 +118,7 @@ std::vector<PoseAlternative> turnedAlternatives(
   const std::vector<Eigen::Vector3f> field_subset = stridedSubset(points, params.field_points);
   const Eigen::Vector3f pivot = model.mesh().surfaceCentroid();
   const double scale = std::max(1e-3f, model.radius());
-  RefinementParams fine = params.refinement;
+  RefinementParams fine = checks.refinement;
   fine.initial_inlier_distance = std::max(fine.final_inlier_distance, params.fine_start_radius);
   fine.max_iterations = std::min(fine.max_iterations, params.fine_iterations);
   const float diameter = 2.f * model.radius();
@@ -151,7 +152,7 @@ std::vector<PoseAlternative> turnedAlternatives(
           }))
         continue;
       alt.verification = explainDepth(renderModelDepth(model, alt.object_pose, image.intrinsics()),
-                                      image, diameter, params.verification);
+                                      image, diameter, checks.verification);
       if (alt.verification.confidence < found.confidence - params.confidence_margin)
         continue;
       poseOffset(object_pose, alt.object_pose, alt.translation_offset, alt.rotation_offset_deg);

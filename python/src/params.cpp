@@ -51,6 +51,10 @@ FieldTable<pcl::icf::IcfParams> icfTable() {
   t["max_rmse"] = PCL_ICF_FIELD(P, double, acceptance.max_rmse);
   t["min_inliers"] = PCL_ICF_FIELD(P, std::size_t, acceptance.min_inliers);
   t["max_seen_through"] = PCL_ICF_FIELD(P, double, acceptance.max_seen_through);
+  t["far_point_gate"] = PCL_ICF_FIELD(P, bool, acceptance.gate.enabled);
+  t["gate_distance"] = PCL_ICF_FIELD(P, float, acceptance.gate.distance);
+  t["gate_max_far_points"] = PCL_ICF_FIELD(P, int, acceptance.gate.max_points);
+  t["gate_max_far_fraction"] = PCL_ICF_FIELD(P, double, acceptance.gate.max_fraction);
   t["rotations"] = PCL_ICF_FIELD(P, std::size_t, global.rotations);
   t["keep"] = PCL_ICF_FIELD(P, std::size_t, global.keep);
   t["distinct_surface"] = PCL_ICF_FIELD(P, float, global.distinct_surface);
@@ -106,10 +110,6 @@ FieldTable<localization::LocalizerParams> localizerTable() {
   t["max_instances"] = PCL_ICF_FIELD(P, int, max_instances);
   t["max_shared_points"] = PCL_ICF_FIELD(P, double, max_shared_points);
   t["min_points_in_front"] = PCL_ICF_FIELD(P, double, min_points_in_front);
-  t["far_point_gate"] = PCL_ICF_FIELD(P, bool, far_point_gate);
-  t["gate_distance"] = PCL_ICF_FIELD(P, float, gate_distance);
-  t["gate_max_far_points"] = PCL_ICF_FIELD(P, int, gate_max_far_points);
-  t["gate_max_far_fraction"] = PCL_ICF_FIELD(P, double, gate_max_far_fraction);
   t["split_merged"] = PCL_ICF_FIELD(P, bool, split_merged);
   t["whole_segment_share"] = PCL_ICF_FIELD(P, double, whole_segment_share);
   t["check_turns"] = PCL_ICF_FIELD(P, bool, check_turns);

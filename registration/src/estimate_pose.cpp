@@ -82,6 +82,16 @@ void ObjectiveParams::validate() const {
     fail("early_exit_count", early_exit_count, "must be >= 0");
 }
 
+void FarPointGate::validate() const {
+  const internal::ParameterCheck fail("FarPointGate");
+  if (!(distance > 0.f) || !std::isfinite(distance))
+    fail("distance", distance, "must be positive and finite");
+  if (max_points < 0)
+    fail("max_points", max_points, "must be >= 0");
+  if (!(max_fraction >= 0.0 && max_fraction <= 1.0))
+    fail("max_fraction", max_fraction, "must lie in [0, 1]");
+}
+
 void AcceptanceParams::validate() const {
   const internal::ParameterCheck fail("AcceptanceParams");
   if (!(inlier_distance > 0.f) || !std::isfinite(inlier_distance))
@@ -90,10 +100,7 @@ void AcceptanceParams::validate() const {
     fail("min_surface_coverage", min_surface_coverage, "must lie in [0, 1]");
   if (!(max_rmse > 0.0) || !std::isfinite(max_rmse))
     fail("max_rmse", max_rmse, "must be positive and finite");
-  if (!(gate_distance > 0.f) || !std::isfinite(gate_distance))
-    fail("gate_distance", gate_distance, "must be positive and finite");
-  if (gate_max_far_points < 0)
-    fail("gate_max_far_points", gate_max_far_points, "must be >= 0");
+  gate.validate();
   if (!(max_seen_through >= 0.0 && max_seen_through <= 1.0))
     fail("max_seen_through", max_seen_through, "must lie in [0, 1]");
   visibility.validate();
@@ -123,7 +130,7 @@ bool isAcceptable(const PoseQuality& q, const AcceptanceParams& p) {
   if (q.inliers < p.min_inliers || q.surface_coverage < p.min_surface_coverage ||
       q.rmse > p.max_rmse || q.seen_through > p.max_seen_through)
     return false;
-  return !p.far_point_gate || q.far_points <= p.gate_max_far_points;
+  return !p.gate.enabled || q.far_points <= p.gate.allowed(q.points);
 }
 
 namespace {
@@ -355,7 +362,7 @@ class PoseEstimation {
                                     params_.coarse_points, params_.fine_iterations, threads_, cb);
     o.quality =
         measurePoseQuality(model_, points_, o.refined.scene_to_model, camera_,
-                           params_.acceptance.inlier_distance, params_.acceptance.gate_distance,
+                           params_.acceptance.inlier_distance, params_.acceptance.gate.distance,
                            params_.objective, params_.acceptance.visibility, threads_);
     if (check_image_)
       o.quality.seen_through = seenThrough(model_, o.refined.scene_to_model, *check_image_,

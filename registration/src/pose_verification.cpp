@@ -104,6 +104,7 @@ PoseQuality measurePoseQuality(const IcfModel& model,
       sq += static_cast<double>(d) * d;
     }
   }
+  q.points = n;
   q.inlier_ratio = static_cast<double>(q.inliers) / static_cast<double>(n);
   q.rmse = q.inliers > 0 ? std::sqrt(sq / static_cast<double>(q.inliers)) : 0.0;
 

@@ -258,7 +258,7 @@ TEST(IterativeClosestFace, WrongModelLeavesTheClusterUnexplained) {
   icf.setInputTarget(meshOf("EisKaffe"));
   icf.setInputSource(t.cluster);
   pcl::icf::IcfParams params;
-  params.acceptance.far_point_gate = true;
+  params.acceptance.gate.enabled = true;
   icf.setParams(params);
   pcl::PointCloud<pcl::PointXYZ> aligned;
   icf.align(aligned);
@@ -275,10 +275,10 @@ TEST(IterativeClosestFace, FarPointGateAcceptsTheRightModelOnASingleObjectCluste
   icf.setInputTarget(meshOf("Box5"));
   icf.setInputSource(t.cluster);
   pcl::icf::IcfParams params;
-  params.acceptance.far_point_gate = true;
+  params.acceptance.gate.enabled = true;
   // The simulated scan has 5% outliers up to 5 cm off along the ray: the thesis's gate of
   // 5 points beyond 27 mm assumed a cleaner cut-out, so allow 10% of the cluster here.
-  params.acceptance.gate_max_far_points = static_cast<int>(t.cluster->size() / 10);
+  params.acceptance.gate.max_points = static_cast<int>(t.cluster->size() / 10);
   icf.setParams(params);
   pcl::PointCloud<pcl::PointXYZ> aligned;
   icf.align(aligned);
@@ -591,8 +591,8 @@ TEST(IcfParams, DocumentedDefaultsAreTheRealDefaults) {
   EXPECT_FLOAT_EQ(p.thesis.translation_sigma_step, 0.010f);
   EXPECT_NEAR(p.thesis.rotation_sigma_step * 180.0 / M_PI, 10.0, 1e-5);
   EXPECT_EQ(p.thesis.stall_limit, 3);
-  EXPECT_FLOAT_EQ(p.acceptance.gate_distance, 0.027f);
-  EXPECT_EQ(p.acceptance.gate_max_far_points, 5);
+  EXPECT_FLOAT_EQ(p.acceptance.gate.distance, 0.027f);
+  EXPECT_EQ(p.acceptance.gate.max_points, 5);
   EXPECT_DOUBLE_EQ(p.acceptance.max_seen_through, 0.05);
   EXPECT_EQ(p.strategy, pcl::icf::SearchStrategy::Fast);
   EXPECT_NO_THROW(p.validate());

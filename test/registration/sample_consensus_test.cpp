@@ -236,8 +236,8 @@ pcl::icf::IcfParams crippledSearch(std::size_t points) {
   params.global.rotations = 1;
   params.global.keep = 1;
   params.exact_candidates = 1;
-  params.acceptance.far_point_gate = true;
-  params.acceptance.gate_max_far_points = static_cast<int>(points / 10);
+  params.acceptance.gate.enabled = true;
+  params.acceptance.gate.max_points = static_cast<int>(points / 10);
   return params;
 }
 

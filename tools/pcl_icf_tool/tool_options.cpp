@@ -168,15 +168,16 @@ bool parseLocalizerOption(const std::string& a, ArgumentReader& args,
   else if (a == "--max-rmse")
     p.icf.acceptance.max_rmse = parsePositive(a, args.value(a));
   else if (a == "--gate-distance")
-    p.gate_distance = static_cast<float>(parsePositive(a, args.value(a)));
+    p.icf.acceptance.gate.distance = static_cast<float>(parsePositive(a, args.value(a)));
   else if (a == "--gate-max-far")
-    p.gate_max_far_points = static_cast<int>(parseInteger(a, args.value(a), 0, 100000000));
+    p.icf.acceptance.gate.max_points =
+        static_cast<int>(parseInteger(a, args.value(a), 0, 100000000));
   else if (a == "--no-gate") {
     args.noValue(a);
-    p.far_point_gate = false;
+    p.icf.acceptance.gate.enabled = false;
   } else if (a == "--gate") {
     args.noValue(a);
-    p.far_point_gate = true;
+    p.icf.acceptance.gate.enabled = true;
   } else if (a == "--min-confidence") {
     p.min_confidence = parseFraction(a, args.value(a));
   } else if (a == "--max-instances")
@@ -457,10 +458,12 @@ std::string usageText(const std::string& program) {
     << "    --max-rmse D             = RMS distance of the inliers (default: "
     << p.icf.acceptance.max_rmse << ")\n"
     << "    --gate                   = also apply the thesis's gate (default: off)\n"
-    << "    --gate-distance D        = the gate: a cluster with more than N points farther\n"
-    << "                               than D from the posed model is rejected (default: "
-    << p.gate_distance << ")\n"
-    << "    --gate-max-far N         = that N (default: " << p.gate_max_far_points << ")\n"
+    << "    --gate-distance D        = the gate: a cluster where more than max(N, "
+    << 100.0 * p.icf.acceptance.gate.max_fraction << "% of its points)\n"
+    << "                               lie farther than D from the posed model is rejected\n"
+    << "                               (default: " << p.icf.acceptance.gate.distance << ")\n"
+    << "    --gate-max-far N         = that N (default: " << p.icf.acceptance.gate.max_points
+    << ")\n"
     << "    --no-gate                = turn the thesis's gate off\n"
     << "    --min-confidence C       = accept a pose whose verification confidence reaches C\n"
     << "                               (default: " << p.min_confidence << ")\n"

@@ -45,7 +45,10 @@ struct LocalizerParams {
   /** false: the whole cloud is one cluster (a cloud already cut to one object). */
   bool segment = true;
   segmentation::TabletopParams segmentation;
-  IcfParams icf;
+  /** The registration of each hypothesis; its acceptance.depth is not read: the seen-through
+   * check uses verification, as everything the localizer judges does. Its far-point gate
+   * allows FarPointGate::kLocalizerMaxFraction of the points by default (defaultIcf). */
+  IcfParams icf = defaultIcf();
   /** The verification that decides (depth_verification.h): the posed model rendered into the
    * camera's pixel grid and compared with the measured depth; tolerances scale with the
    * sensor's noise at each pixel's depth and with the model's size. */
@@ -79,18 +82,11 @@ struct LocalizerParams {
    * a target touching an explained neighbour is searched on its own points. Each must index
    * the scene. */
   std::vector<int> explained_indices;
-  /** The far-point gate, off by default (the verification decides): a cluster is rejected when
-   * more than max(gate_max_far_points, gate_max_far_fraction x its size) of the points the
-   * posed model claims lie farther than gate_distance from its closest face. It is the ICF
-   * thesis's acceptance test (Armenise, KTH 2013, section 6.2). A cluster of one object
+  /** The far-point gate is icf.acceptance.gate (FarPointGate; off by default, the verification
+   * decides). Here a cluster is refused when more than allowed() of the points the posed model
+   * claims lie farther than its distance from the closest face. A cluster of one object
    * (compact, or a convexity segment) is counted whole, as in the thesis; in a merged cluster
    * only the points inside the rendered model's silhouette and behind its surface count. */
-  bool far_point_gate = false;
-  float gate_distance = 0.027f;  ///< 27 mm
-  int gate_max_far_points = 5;   ///< "more than 5 points"
-  /** Ours: the thesis's clusters had a few hundred points after its voxel filter; a
-   * full-resolution Kinect cluster of thousands has more stray edge pixels. */
-  double gate_max_far_fraction = 0.03;
   ColourCue colour;
   /** Touching objects merge into one Euclidean cluster (the YCB-Video frame's four do). A
    * cluster that spreads wider than the model (icf.global.merged_cluster_ratio) is also split
@@ -130,8 +126,8 @@ struct LocalizerParams {
    * it, and the others within the margin are reported (ClusterLocalization::alternatives).
    * false: the search's pose as it is. */
   bool check_turns = true;
-  /** Their parameters; refinement and verification are taken from icf.refinement and
-   * verification. */
+  /** Their parameters; each turn is refined as icf.refinement and verified as verification
+   * say (TurnChecks). */
   PoseAlternativeParams alternatives;
 
   /** Calibration constants (localizer_tuning.h): left as they are by a user. */
@@ -149,6 +145,9 @@ struct LocalizerParams {
    * verification.max_residual: set your own values of those after it. Everything else is left
    * as it is. */
   void useExactMeshSettings();
+  /** IcfParams' defaults with the far-point gate's max_fraction at
+   * FarPointGate::kLocalizerMaxFraction. */
+  static IcfParams defaultIcf();
   static constexpr std::size_t kExactMeshKeep = 24;
 
   void validate() const;
@@ -173,7 +172,7 @@ struct ClusterLocalization {
   /** Its confidence in the ranking, before the exact refinement (field-refined pose). */
   double prescore = 0.0;
   IcfResult icf;            ///< pose (object_pose: model -> scene), quality, status
-  int gate_far_points = 0;  ///< points beyond gate_distance counted by the thesis's gate
+  int gate_far_points = 0;  ///< points beyond the gate's distance (icf.acceptance.gate)
   bool gate_passed = true;
   /** How the posed model explains the depth image; its confidence decides acceptance. */
   DepthExplanation verification;
@@ -181,7 +180,7 @@ struct ClusterLocalization {
   /** Ranking score: the verification's confidence x (colour similarity ^ weight), comparable
    * across clusters of any size (doc/localizer.md). */
   double score = 0.0;
-  bool single_object = true;  ///< judged as one object's points (see far_point_gate)
+  bool single_object = true;  ///< judged as one object's points (see the far-point gate)
   bool accepted = false;      ///< confidence >= min_confidence (and the gate, when on)
   /** Poses as good as this one (within alternatives.confidence_margin of its confidence) that
    * differ from it by a turn: the depth cannot decide between them (a box's flip, a can's

@@ -51,8 +51,6 @@ struct PoseAlternativeParams {
   std::size_t field_points = 500;
   float fine_start_radius = 0.01f;
   int fine_iterations = 15;
-  RefinementParams refinement;
-  DepthVerificationParams verification;
 
   /** \throws std::invalid_argument naming the field. */
   void validate() const;
@@ -69,19 +67,24 @@ struct PoseAlternative {
   float rotation_offset_deg = 0.f;
 };
 
+/** \brief How a turn is refined and judged: as the found pose was (the localizer passes its
+ * own refinement and verification), so a turn and the found pose are compared alike. */
+struct TurnChecks {
+  RefinementParams refinement;
+  DepthVerificationParams verification;
+};
+
 /** \brief Turns the model found at \a object_pose (model -> camera) by 180 degrees about each
  * principal axis, and by 90 and 270 where the other two extents nearly agree, refines each turn on
- * \a points (camera frame) and verifies it on \a image. Returns the distinct refined poses (not
- * within same_translation / same_rotation of the found one or of each other) whose confidence
- * reaches the found pose's minus confidence_margin, best first (confidence, then the lower
- * residual). Deterministic. */
-std::vector<PoseAlternative> turnedAlternatives(const IcfModel& model,
-                                                const PrincipalAxes& principal,
-                                                const std::vector<Eigen::Vector3f>& points,
-                                                const Eigen::Isometry3f& object_pose,
-                                                const DepthExplanation& found,
-                                                const DepthImage& image,
-                                                const PoseAlternativeParams& params = {});
+ * \a points (camera frame) and verifies it on \a image, both as \a checks say. Returns the distinct
+ * refined poses (not within same_translation / same_rotation of the found one or of each other)
+ * whose confidence reaches the found pose's minus confidence_margin, best first (confidence, then
+ * the lower residual). Deterministic. */
+std::vector<PoseAlternative> turnedAlternatives(
+    const IcfModel& model, const PrincipalAxes& principal,
+    const std::vector<Eigen::Vector3f>& points, const Eigen::Isometry3f& object_pose,
+    const DepthExplanation& found, const DepthImage& image,
+    const PoseAlternativeParams& params = {}, const TurnChecks& checks = {});
 
 }  // namespace localization
 }  // namespace icf

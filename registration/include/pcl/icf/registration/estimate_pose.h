@@ -48,6 +48,29 @@ enum class FallbackPolicy {
 FallbackPolicy parseFallbackPolicy(const std::string& name);
 std::string toString(FallbackPolicy policy);
 
+/** \brief The ICF thesis's acceptance test (Armenise, KTH 2013, section 6.2): a pose is refused
+ * when more of the points it is judged on than allowed() lie farther than distance from the
+ * posed model's closest face. The one gate of the library: estimatePose applies it to the
+ * cluster's points (AcceptanceParams::gate), localizeObject to the points its pose claims
+ * (LocalizerParams, far_point_gate). */
+struct FarPointGate {
+  bool enabled = false;
+  float distance = 0.027f;  ///< 27 mm, the thesis's
+  int max_points = 5;       ///< "more than 5 points", the thesis's
+  /** Ours, as a share of the points judged: the thesis's clusters had a few hundred points
+   * after its voxel filter; a full-resolution Kinect cluster of thousands has more stray edge
+   * pixels. 0 here, the thesis's rule; localizeObject's default is kLocalizerMaxFraction. */
+  double max_fraction = 0.0;
+  static constexpr double kLocalizerMaxFraction = 0.03;
+
+  /** Far points allowed among \a points judged: max(max_points, max_fraction x points). */
+  double allowed(std::size_t points) const {
+    return std::max<double>(max_points, max_fraction * static_cast<double>(points));
+  }
+  /** \throws std::invalid_argument naming the field. */
+  void validate() const;
+};
+
 /** \brief When a pose is accepted (hasConverged() is true). Lengths in scene units. */
 struct AcceptanceParams {
   /** Scene points within this distance of the posed model are inliers; a visible model
@@ -61,13 +84,9 @@ struct AcceptanceParams {
   double max_rmse = 0.006;
   /** At least this many inliers. */
   std::size_t min_inliers = 30;
-  /** Also apply the far-point gate: reject when more than gate_max_far_points points lie
-   * farther than gate_distance (27 mm) from the posed model (PoseQuality::far_points). It is
-   * the ICF thesis's acceptance test (Armenise, KTH 2013, section 6.2). Off by default: it assumes
-   * the cluster holds nothing but the target. */
-  bool far_point_gate = false;
-  float gate_distance = 0.027f;
-  int gate_max_far_points = 5;
+  /** The far-point gate (off by default: it assumes the cluster holds nothing but the
+   * target). Its distance also sets what PoseQuality::far_points counts. */
+  FarPointGate gate;
   VisibilityParams visibility;
   /** Reject a pose the camera sees through: of the posed model's pixels where the camera could
    * have seen it (explainDepth's supported, seen_through and below_support), the share where

@@ -45,7 +45,8 @@ struct PoseQuality {
   /** Share of the visible model surface (visibleSamples) with a scene point within
    * inlier_distance: how much of what the camera should see of the model is there. */
   double surface_coverage = 0.0;
-  int far_points = 0;  ///< scene points farther than the thesis gate distance
+  int far_points = 0;      ///< scene points farther than the thesis gate distance
+  std::size_t points = 0;  ///< scene points measured
   std::size_t inliers = 0;
   std::size_t visible_samples = 0;
   /** Share of the posed model's pixels, where the camera could have seen it, that the camera

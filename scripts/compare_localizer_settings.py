@@ -5,7 +5,7 @@ compare each setting's decisions with the first one's: found or not, the pose wi
 doc/BENCHMARKS.md). A case whose truth is "none" counts a false pose when found.
 
   PYTHONPATH=build/release/python python3 scripts/compare_localizer_settings.py \\
-      --setting 'before=dict(whole_segment_share=1.0)' --setting 'default=dict()' \\
+      --setting 'before=dict(check_turns=False)' --setting 'default=dict()' \\
       data/manifests/ycbv_video0000.txt data/manifests/ycbv_absent.txt ...
 
 Settings are Python dicts of pcl_icf.localize keyword arguments; the first is the reference.

@@ -4,9 +4,9 @@ headers (*/include/**/*.h): a field whose type is another params struct is follo
 
   scripts/count_public_knobs.py LocalizerParams [--root .] [--count]
 
-A struct's fields are its data members (static members, functions and type declarations left
-out); std::optional<T> counts as T. The count is what issue-free docs quote as the public
-surface; it reads source text, so a member declared through a macro would be missed (none is).
+A struct's fields are its public data members (static members, functions, type declarations
+and private members, reached only through an accessor, left out); std::optional<T> counts as
+T. The count is what the docs quote as the public surface; it reads source text, so a member declared through a macro would be missed (none is).
 """
 import argparse
 import glob
@@ -47,9 +47,17 @@ def struct_bodies(text):
 
 def fields(body):
     out = []
+    public = True  # a struct's members are public until an access specifier says otherwise
     for statement in body.split(";"):
         s = " ".join(statement.split())
-        s = re.sub(r"^(public|private|protected):\s*", "", s)
+        while True:
+            m = re.match(r"^(public|private|protected):\s*", s)
+            if not m:
+                break
+            public = m.group(1) == "public"
+            s = s[m.end():]
+        if not public:
+            continue
         if not s or s.startswith(("static", "using", "friend", "template", "enum", "typedef",
                                   "struct", "class")):
             continue

@@ -95,8 +95,8 @@ void describeTurn(const Eigen::Isometry3f& from, PoseAlternative& alt) {
 void resolveTurns(ClusterLocalization& c, const SceneView& view, const DepthImage& image,
                   const IcfModel& model, const PrincipalAxes& axes, const LocalizerParams& params) {
   const std::vector<Eigen::Vector3f> points = usablePoints(view, c.indices);
-  const PoseAlternativeParams& ap = params.alternatives;
-  const TurnChecks checks{params.icf.refinement, params.verification};
+  const PoseAlternativeParams& ap = params.tuning().alternatives;
+  const TurnChecks checks{params.tuning().icf.refinement, params.tuning().verification};
   const Eigen::Isometry3f found(c.icf.object_pose);
   std::vector<PoseAlternative> candidates =
       turnedAlternatives(model, axes, points, found, c.verification, image, ap, checks);
@@ -123,12 +123,14 @@ void resolveTurns(ClusterLocalization& c, const SceneView& view, const DepthImag
     c.icf.object_pose = winner.object_pose.matrix();
     c.icf.scene_to_model = scene_to_model.matrix();
     c.icf.quality = measurePoseQuality(model, points, scene_to_model, kCameraAtOrigin,
-                                       params.icf.acceptance.inlier_distance,
-                                       params.icf.acceptance.gate.distance, params.icf.objective,
-                                       params.icf.acceptance.visibility);
+                                       params.tuning().icf.acceptance.inlier_distance,
+                                       params.tuning().icf.acceptance.gate.distance,
+                                       params.tuning().icf.objective,
+                                       params.tuning().icf.acceptance.visibility);
     c.verification = winner.verification;
     c.score = c.verification.confidence * colour_factor;
-    c.explained = explainedPoints(view, c.indices, model, scene_to_model, params.verification);
+    c.explained =
+        explainedPoints(view, c.indices, model, scene_to_model, params.tuning().verification);
     c.turned = true;
   }
   c.alternatives.clear();
@@ -145,11 +147,11 @@ void resolveTurns(ClusterLocalization& c, const SceneView& view, const DepthImag
 std::string rejection(const ClusterLocalization& c, const LocalizerParams& params) {
   std::string reason;
   if (c.verification.confidence < params.min_confidence)
-    reason = describeRefusal(c.verification, params.min_confidence, params.verification);
+    reason = describeRefusal(c.verification, params.min_confidence, params.tuning().verification);
   if (!c.gate_passed) {
     std::ostringstream gate;
     gate << (reason.empty() ? "" : " ") << "thesis gate (" << c.gate_far_points << " points beyond "
-         << params.icf.acceptance.gate.distance << ")";
+         << params.tuning().icf.acceptance.gate.distance << ")";
     reason += gate.str();
   }
   return reason;
@@ -165,16 +167,16 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
   c.single_object = single_object;
 
   const std::vector<Eigen::Vector3f> points = usablePoints(view, indices);
-  IcfParams icf = params.icf;
+  IcfParams icf = params.icfParams();
   icf.threads = icf_threads;
   // The gate is applied below, to the points the posed model claims (a merged cluster's other
   // objects are not its far points), not by estimatePose to the whole crop.
   icf.acceptance.gate.enabled = false;
   // One verification: the seen-through check judges the depth with the same tolerances.
-  icf.acceptance.depth = params.verification;
+  icf.acceptance.depth = params.tuning().verification;
   // A hypothesis is refined from its pose, on a strided subset of the points near it.
   if (start) {
-    const SceneHypotheses& hp = params.tuning.hypotheses;
+    const SceneHypotheses& hp = params.tuning().hypotheses;
     icf.refinement.max_points = hp.refine_points;
     icf.refinement.initial_inlier_distance =
         std::max(icf.refinement.final_inlier_distance, hp.fine_start_radius);
@@ -184,11 +186,11 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
   if (start)  // the hypothesis's pose is where the refinement starts (scene -> model)
     options.guess = start->inverse(Eigen::Isometry);
   // A start worth refining never needs more than an accepted pose.
-  const double refine_at = std::min(params.refine_min_confidence, params.min_confidence);
+  const double refine_at = std::min(params.tuning().refine_min_confidence, params.min_confidence);
   if (refine_at > 0.0)
     options.worth_refining = [&, refine_at](const Eigen::Isometry3f& scene_to_model) {
       return explainDepth(model, scene_to_model.inverse(Eigen::Isometry), image,
-                          params.verification)
+                          params.tuning().verification)
                  .confidence >= refine_at;
     };
   c.icf = estimatePose(model, points, kCameraAtOrigin, icf, options);
@@ -198,10 +200,11 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
   }
   const Eigen::Isometry3f model_to_camera(c.icf.object_pose);
   const ModelDepth rendered = renderModelDepth(model, model_to_camera, image.intrinsics());
-  c.verification = explainDepth(rendered, image, 2.f * model.radius(), params.verification);
+  c.verification =
+      explainDepth(rendered, image, 2.f * model.radius(), params.tuning().verification);
   c.explained = explainedPoints(view, indices, model, Eigen::Isometry3f(c.icf.scene_to_model),
-                                params.verification);
-  const FarPointGate& gate = params.icf.acceptance.gate;
+                                params.tuning().verification);
+  const FarPointGate& gate = params.tuning().icf.acceptance.gate;
   if (gate.enabled) {
     c.gate_far_points = gateFarPoints(points, model, Eigen::Isometry3f(c.icf.scene_to_model),
                                       rendered, image, gate, single_object);

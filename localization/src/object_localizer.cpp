@@ -50,42 +50,60 @@ void ColourCue::validate() const {
 
 void LocalizerParams::useExactMeshSettings() {
   const DepthVerificationParams exact = DepthVerificationParams::forExactMesh();
-  verification.fit_residual = exact.fit_residual;
-  verification.max_residual = exact.max_residual;
-  icf.global.keep = kExactMeshKeep;
+  tuning_.verification.fit_residual = exact.fit_residual;
+  tuning_.verification.max_residual = exact.max_residual;
+  tuning_.icf.global.keep = kExactMeshKeep;
 }
 
-IcfParams LocalizerParams::defaultIcf() {
+IcfParams LocalizerTuning::defaultIcf() {
   IcfParams icf;
   icf.acceptance.gate.max_fraction = FarPointGate::kLocalizerMaxFraction;
   return icf;
 }
 
+IcfParams LocalizerParams::icfParams() const {
+  IcfParams icf = tuning_.icf;
+  icf.strategy = strategy;
+  icf.fallback = fallback;
+  icf.seed = seed;
+  icf.threads = threads;
+  return icf;
+}
+
+segmentation::TabletopParams LocalizerParams::segmentationParams() const {
+  segmentation::TabletopParams s = tuning_.segmentation;
+  s.cluster = cluster;
+  return s;
+}
+
+void LocalizerTuning::validate() const {
+  const internal::ParameterCheck fail("localization::LocalizerTuning");
+  verification.validate();
+  alternatives.validate();
+  hypotheses.validate();
+  if (!(refine_min_confidence >= 0.0 && refine_min_confidence <= 1.0))
+    fail("refine_min_confidence", refine_min_confidence, "must lie in [0, 1]");
+  if (!(min_points_in_front >= 0.0 && min_points_in_front <= 1.0))
+    fail("min_points_in_front", min_points_in_front, "must lie in [0, 1]");
+  if (!(max_shared_points >= 0.0 && max_shared_points < 1.0))
+    fail("max_shared_points", max_shared_points, "must lie in [0, 1)");
+}
+
 void LocalizerParams::validate() const {
   const internal::ParameterCheck fail("localization::LocalizerParams");
   if (segment)
-    segmentation.validate();
-  icf.validate();
+    segmentationParams().validate();
+  icfParams().validate();
   colour.validate();
-  verification.validate();
-  tuning.validate();
+  tuning_.validate();
   if (intrinsics)
     intrinsics->validate();
   if (!(min_confidence >= 0.0 && min_confidence <= 1.0))
     fail("min_confidence", min_confidence, "must lie in [0, 1]");
-  if (!(refine_min_confidence >= 0.0 && refine_min_confidence <= 1.0))
-    fail("refine_min_confidence", refine_min_confidence, "must lie in [0, 1]");
   if (threads < 0 || threads > 1024)
     fail("threads", threads, "must lie in [0, 1024] (0 = all cores)");
-  if (!(min_points_in_front >= 0.0 && min_points_in_front <= 1.0))
-    fail("min_points_in_front", min_points_in_front, "must lie in [0, 1]");
   if (max_instances < 1 || max_instances > 1000)
     fail("max_instances", max_instances, "must lie in [1, 1000]");
-  if (!(max_shared_points >= 0.0 && max_shared_points < 1.0))
-    fail("max_shared_points", max_shared_points, "must lie in [0, 1)");
-  if (!(whole_segment_share > 0.0 && whole_segment_share <= 1.0))
-    fail("whole_segment_share", whole_segment_share, "must lie in (0, 1]");
-  alternatives.validate();
   if (camera_pose)
     validateRigidTransform(camera_pose->matrix().cast<double>(),
                            "[pcl::icf::localization::LocalizerParams::validate] camera_pose");
@@ -185,7 +203,7 @@ std::string searchRound(const SceneView& view, const std::vector<pcl::PointIndic
                         const DepthImage& image, const IcfModel& model,
                         const LocalizerParams& params, const std::vector<int>& explained,
                         int threads, Localization& out) {
-  const SceneHypotheses& hp = params.tuning.hypotheses;
+  const SceneHypotheses& hp = params.tuning().hypotheses;
   const std::vector<bool> usable = candidatePoints(view, out.segmentation, explained);
   using Clock = std::chrono::steady_clock;
   const auto msSince = [](Clock::time_point t) {
@@ -201,18 +219,19 @@ std::string searchRound(const SceneView& view, const std::vector<pcl::PointIndic
   if (hp.clusters || model.pointPairs().pairs() == 0) {
     std::vector<pcl::PointIndices> rest = clusters;
     if (explained.size() > params.explained_indices.size())
-      withoutExplainedPoints(rest, view, explained, params.segmentation.cluster.min_size);
+      withoutExplainedPoints(rest, view, explained, params.cluster.min_size);
     const std::vector<Candidate> searched =
         clusterCandidates(view, searchedClusters(view, rest, model, params), model,
-                          params.icf.global, params.icf.seed, hp, threads);
+                          params.tuning().icf.global, params.seed, hp, threads);
     candidates.insert(candidates.end(), searched.begin(), searched.end());
   }
   out.hypotheses_ms += msSince(stage);
   stage = Clock::now();
   const std::size_t judged =
       std::max(hp.judged, 2 * static_cast<std::size_t>(params.max_instances));
-  const std::vector<RankedHypothesis> ranked = rankCandidates(
-      view, usable, model, image, params.verification, scene, candidates, hp, judged, threads);
+  const std::vector<RankedHypothesis> ranked =
+      rankCandidates(view, usable, model, image, params.tuning().verification, scene, candidates,
+                     hp, judged, threads);
   out.ranking_ms += msSince(stage);
   stage = Clock::now();
   std::vector<ClusterLocalization> found =
@@ -273,8 +292,7 @@ ObjectsLocalization localizeObjectsInView(const SceneView& view,
       return stopped(std::move(bad));
     }
   }
-  withoutExplainedPoints(clusters, view, params.explained_indices,
-                         params.segmentation.cluster.min_size);
+  withoutExplainedPoints(clusters, view, params.explained_indices, params.cluster.min_size);
   // What the camera saw, the table marked as background (an object standing on it would
   // otherwise seem to carry on into the table at its base).
   // (Without segmentation the plane has no inliers: nothing is background.)
@@ -320,7 +338,7 @@ ObjectsLocalization localizeObjectsInView(const SceneView& view,
     }
     const auto selection = Clock::now();
     std::vector<std::vector<int>> now =
-        selectInstances(all.objects, caps, names, params.max_shared_points);
+        selectInstances(all.objects, caps, names, params.tuning().max_shared_points);
     bool more = false;
     for (std::size_t k = 0; k < n; ++k) {
       searching[k] = searching[k] && accepted_new[k] && static_cast<int>(now[k].size()) < caps[k];

@@ -56,7 +56,7 @@ std::size_t pointsBeyondTheTable(const SceneView& view,
   const Eigen::Vector2f margin = 0.1f * (hi - lo);
   lo += margin;
   hi -= margin;
-  const auto& heights = params.segmentation.above_table;
+  const auto& heights = params.tuning().segmentation.above_table;
   std::size_t beyond = 0;
   for (const auto& p : view.points) {
     if (!isUsablePoint(p))
@@ -79,7 +79,7 @@ bool clusterLooksMerged(const SceneView& view, const pcl::PointIndices& cluster,
   points.reserve(cluster.indices.size());
   for (const auto i : cluster.indices)
     points.push_back(view.points[static_cast<std::size_t>(i)]);
-  return spreadsWiderThanModel(points, model.radius(), params.icf.global);
+  return spreadsWiderThanModel(points, model.radius(), params.tuning().icf.global);
 }
 
 pcl::PointCloud<pcl::PointXYZRGBA> colouredCloud(const SceneView& view) {
@@ -154,7 +154,7 @@ Localization segmentationStopped(const SceneView& view,
       toString(status) + (segmentation.message.empty() ? "" : ": " + segmentation.message);
   if (status == segmentation::TabletopStatus::NoCluster) {
     const std::size_t beyond = pointsBeyondTheTable(view, segmentation, params);
-    if (beyond >= params.segmentation.cluster.min_size) {
+    if (beyond >= params.cluster.min_size) {
       out.status = LocalizationStatus::BadScene;
       out.message =
           "the camera is on the wrong side of the table: nothing stands on its "
@@ -197,7 +197,7 @@ std::vector<pcl::PointIndices> searchedClusters(const SceneView& view,
       continue;
     if (coloured.empty())
       coloured = colouredCloud(view);
-    for (auto& segment : segmentation::splitByConvexity(coloured, cluster, params.split))
+    for (auto& segment : segmentation::splitByConvexity(coloured, cluster, params.tuning().split))
       if (segment.indices.size() < cluster.indices.size())
         segments.push_back(std::move(segment));
   }

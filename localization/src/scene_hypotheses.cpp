@@ -48,10 +48,6 @@ void SceneHypotheses::validate() const {
     fail("fine_iterations", fine_iterations, "must be >= 1");
 }
 
-void LocalizerTuning::validate() const {
-  hypotheses.validate();
-}
-
 namespace detail {
 
 std::vector<bool> candidatePoints(const internal::SceneView& view,

@@ -35,6 +35,19 @@ Field<Params> member(Access access) {
 
 #define PCL_ICF_FIELD(Params, T, expr) member<Params, T>([](Params& p) -> T& { return p.expr; })
 
+/** An enum member given by its name: \a parse reads it, pcl::icf::toString writes it. */
+template <typename Params, typename T, typename Access>
+Field<Params> named(Access access, T (*parse)(const std::string&)) {
+  return {
+      [access, parse](Params& p, const py::handle& v) { access(p) = parse(v.cast<std::string>()); },
+      [access](const Params& p) {
+        return py::cast(pcl::icf::toString(access(const_cast<Params&>(p))));
+      }};
+}
+
+#define PCL_ICF_NAMED(Params, T, expr, parse) \
+  named<Params, T>([](Params& p) -> T& { return p.expr; }, &pcl::icf::parse)
+
 FieldTable<pcl::icf::IcfParams> icfTable() {
   using P = pcl::icf::IcfParams;
   FieldTable<P> t;
@@ -59,14 +72,8 @@ FieldTable<pcl::icf::IcfParams> icfTable() {
   t["keep"] = PCL_ICF_FIELD(P, std::size_t, global.keep);
   t["distinct_surface"] = PCL_ICF_FIELD(P, float, global.distinct_surface);
   t["max_points"] = PCL_ICF_FIELD(P, std::size_t, refinement.max_points);
-  t["strategy"] = {[](P& p, const py::handle& v) {
-                     p.strategy = pcl::icf::parseSearchStrategy(v.cast<std::string>());
-                   },
-                   [](const P& p) { return py::cast(pcl::icf::toString(p.strategy)); }};
-  t["fallback"] = {[](P& p, const py::handle& v) {
-                     p.fallback = pcl::icf::parseFallbackPolicy(v.cast<std::string>());
-                   },
-                   [](const P& p) { return py::cast(pcl::icf::toString(p.fallback)); }};
+  t["strategy"] = PCL_ICF_NAMED(P, pcl::icf::SearchStrategy, strategy, parseSearchStrategy);
+  t["fallback"] = PCL_ICF_NAMED(P, pcl::icf::FallbackPolicy, fallback, parseFallbackPolicy);
   return t;
 }
 
@@ -99,29 +106,30 @@ FieldTable<localization::LocalizerParams> localizerTable() {
   using P = localization::LocalizerParams;
   FieldTable<P> t;
   for (auto& [name, field] : icfTable())
-    t[name] = {[set = field.set](P& p, const py::handle& v) { set(p.icf, v); },
-               [get = field.get](const P& p) { return get(p.icf); }};
-  // As the tool's --threads: both levels.
-  t["threads"] = {[](P& p, const py::handle& v) { p.threads = p.icf.threads = v.cast<int>(); },
-                  [](const P& p) { return py::cast(p.threads); }};
+    t[name] = {[set = field.set](P& p, const py::handle& v) { set(p.tuning().icf, v); },
+               [get = field.get](const P& p) { return get(p.tuning().icf); }};
+  // The registration's fields the localizer has itself (LocalizerParams::icfParams).
+  t["threads"] = PCL_ICF_FIELD(P, int, threads);
+  t["seed"] = PCL_ICF_FIELD(P, std::uint64_t, seed);
+  t["strategy"] = PCL_ICF_NAMED(P, pcl::icf::SearchStrategy, strategy, parseSearchStrategy);
+  t["fallback"] = PCL_ICF_NAMED(P, pcl::icf::FallbackPolicy, fallback, parseFallbackPolicy);
   t["segment"] = PCL_ICF_FIELD(P, bool, segment);
   t["min_confidence"] = PCL_ICF_FIELD(P, double, min_confidence);
-  t["refine_min_confidence"] = PCL_ICF_FIELD(P, double, refine_min_confidence);
+  t["refine_min_confidence"] = PCL_ICF_FIELD(P, double, tuning().refine_min_confidence);
   t["max_instances"] = PCL_ICF_FIELD(P, int, max_instances);
-  t["max_shared_points"] = PCL_ICF_FIELD(P, double, max_shared_points);
-  t["min_points_in_front"] = PCL_ICF_FIELD(P, double, min_points_in_front);
+  t["max_shared_points"] = PCL_ICF_FIELD(P, double, tuning().max_shared_points);
+  t["min_points_in_front"] = PCL_ICF_FIELD(P, double, tuning().min_points_in_front);
   t["split_merged"] = PCL_ICF_FIELD(P, bool, split_merged);
-  t["whole_segment_share"] = PCL_ICF_FIELD(P, double, whole_segment_share);
   t["check_turns"] = PCL_ICF_FIELD(P, bool, check_turns);
-  t["turn_points"] = PCL_ICF_FIELD(P, std::size_t, alternatives.max_points);
-  t["fit_residual"] = PCL_ICF_FIELD(P, double, verification.fit_residual);
-  t["max_residual"] = PCL_ICF_FIELD(P, double, verification.max_residual);
-  t["full_evidence"] = PCL_ICF_FIELD(P, double, verification.full_evidence);
-  t["max_conflict"] = PCL_ICF_FIELD(P, double, verification.max_conflict);
-  t["max_continuation"] = PCL_ICF_FIELD(P, double, verification.max_continuation);
-  t["cluster_tolerance"] = PCL_ICF_FIELD(P, double, segmentation.cluster.tolerance);
-  t["min_cluster_size"] = PCL_ICF_FIELD(P, std::size_t, segmentation.cluster.min_size);
-  t["max_cluster_size"] = PCL_ICF_FIELD(P, std::size_t, segmentation.cluster.max_size);
+  t["turn_points"] = PCL_ICF_FIELD(P, std::size_t, tuning().alternatives.max_points);
+  t["fit_residual"] = PCL_ICF_FIELD(P, double, tuning().verification.fit_residual);
+  t["max_residual"] = PCL_ICF_FIELD(P, double, tuning().verification.max_residual);
+  t["full_evidence"] = PCL_ICF_FIELD(P, double, tuning().verification.full_evidence);
+  t["max_conflict"] = PCL_ICF_FIELD(P, double, tuning().verification.max_conflict);
+  t["max_continuation"] = PCL_ICF_FIELD(P, double, tuning().verification.max_continuation);
+  t["cluster_tolerance"] = PCL_ICF_FIELD(P, double, cluster.tolerance);
+  t["min_cluster_size"] = PCL_ICF_FIELD(P, std::size_t, cluster.min_size);
+  t["max_cluster_size"] = PCL_ICF_FIELD(P, std::size_t, cluster.max_size);
   t["colour_weight"] = PCL_ICF_FIELD(P, double, colour.weight);
   t["colour"] = {[](P& p, const py::handle& v) {
                    if (v.is_none()) {
@@ -177,6 +185,7 @@ FieldTable<pcl::icf::tracking::TrackerParams> trackerTable() {
 }
 
 #undef PCL_ICF_FIELD
+#undef PCL_ICF_NAMED
 
 template <typename Params>
 void apply(const FieldTable<Params>& table, Params& params, const py::kwargs& kwargs,

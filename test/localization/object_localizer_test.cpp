@@ -383,10 +383,10 @@ TEST(Localizer, ASymmetricTargetsSpinsAreOneHypothesis) {
   ASSERT_NEAR(desk.target_visible, 0.614, 0.01);
   const IcfModel::ConstPtr model = IcfModel::build(target.mesh);
   LocalizerParams defaults, params;
-  params.tuning.hypotheses.point_pairs = false;
-  params.tuning.hypotheses.clusters = true;
+  params.tuning().hypotheses.point_pairs = false;
+  params.tuning().hypotheses.clusters = true;
   LocalizerParams control = params;
-  control.icf.global.distinct_surface = 0.f;
+  control.tuning().icf.global.distinct_surface = 0.f;
   const auto voted = localization::localizeObject(*desk.present.cloud, *model, defaults);
   const auto found = localization::localizeObject(*desk.present.cloud, *model, params);
   const auto missed = localization::localizeObject(*desk.present.cloud, *model, control);
@@ -606,12 +606,14 @@ TEST(Localizer, ExactMeshSettingsRefuseAScannedMeshAndSaySo) {
 
   localization::LocalizerParams exact;
   exact.useExactMeshSettings();
-  EXPECT_EQ(exact.icf.global.keep, localization::LocalizerParams::kExactMeshKeep);
-  EXPECT_EQ(exact.verification.fit_residual, DepthVerificationParams::forExactMesh().fit_residual);
-  EXPECT_EQ(exact.verification.max_residual, DepthVerificationParams::forExactMesh().max_residual);
+  EXPECT_EQ(exact.tuning().icf.global.keep, localization::LocalizerParams::kExactMeshKeep);
+  EXPECT_EQ(exact.tuning().verification.fit_residual,
+            DepthVerificationParams::forExactMesh().fit_residual);
+  EXPECT_EQ(exact.tuning().verification.max_residual,
+            DepthVerificationParams::forExactMesh().max_residual);
   // Every ranked hypothesis judged, however weak its ranking: the right pose is among them.
-  exact.tuning.hypotheses.min_prescore = 0.0;
-  exact.tuning.hypotheses.judged = 12;
+  exact.tuning().hypotheses.min_prescore = 0.0;
+  exact.tuning().hypotheses.judged = 12;
   const auto refused = localization::localizeObject(scene, *model, exact);
   EXPECT_EQ(refused.status, LocalizationStatus::NotFound);
   bool right_pose_judged = false;
@@ -620,8 +622,8 @@ TEST(Localizer, ExactMeshSettingsRefuseAScannedMeshAndSaySo) {
       continue;
     right_pose_judged = true;
     EXPECT_FALSE(c.accepted);
-    EXPECT_GT(c.verification.residual, exact.verification.fit_residual);
-    EXPECT_LT(c.verification.residual, scanned.verification.fit_residual);
+    EXPECT_GT(c.verification.residual, exact.tuning().verification.fit_residual);
+    EXPECT_LT(c.verification.residual, scanned.tuning().verification.fit_residual);
     EXPECT_NE(c.reason.find("fits the depth at"), std::string::npos) << c.reason;
   }
   EXPECT_TRUE(right_pose_judged) << refused.message;

@@ -48,8 +48,7 @@ TEST(ThreadDeterminism, LocalizerOnAScene) {
   for (int threads : {1, 2, 3}) {
     LocalizerParams params;
     params.threads = threads;
-    params.icf.threads = threads;
-    params.icf.seed = 7;
+    params.seed = 7;
     runs.push_back(localization::localizeObject(*scene.scan.cloud, *model, params));
   }
   ASSERT_GE(runs[0].clusters.size(), 1u);

@@ -98,7 +98,7 @@ BopOptions parseBopOptions(int argc, char** argv) {
 std::vector<BopEstimate> localizeImages(BopBenchData& data, const BopOptions& o) {
   pcl::icf::localization::LocalizerParams params;
   params.threads = o.threads;
-  params.icf.seed = o.seed;
+  params.seed = o.seed;
   std::vector<BopEstimate> rows;
   std::size_t index = 0, done = 0;
   const std::size_t mine = (data.targets().size() + static_cast<std::size_t>(o.shard.count) -

@@ -440,11 +440,11 @@ pcl::icf::localization::LocalizerParams sceneParams(const Options& o) {
   if (o.exact_mesh)
     p.useExactMeshSettings();
   p.threads = o.threads;
-  applyIcfOptions(o, p.icf);
+  applyIcfOptions(o, p.tuning().icf);
   for (const auto& [key, value] : o.verification_fields)
-    applyVerificationOverride(p.verification, key, value);
+    applyVerificationOverride(p.tuning().verification, key, value);
   for (const auto& [key, value] : o.tuning_fields)
-    applyTuningOverride(p.tuning, key, value);
+    applyTuningOverride(p.tuning(), key, value);
   if (o.scene_min_confidence)
     p.min_confidence = *o.scene_min_confidence;
   return p;

@@ -28,7 +28,7 @@ json frameJson(const Scene& scene, const std::vector<Model>& models,
   json j;
   j["scene"] = scene.path;
   j["units"] = pcl_icf_tool::unitsName(scene.units);
-  j["seed"] = options.params.icf.seed;
+  j["seed"] = options.params.seed;
   j["segment"] = options.params.segment;
   j["status"] = localization::toString(all.status);
   j["message"] = all.message;

@@ -134,20 +134,19 @@ bool parseLocalizerOption(const std::string& a, ArgumentReader& args,
     args.noValue(a);
     p.segment = false;
   } else if (a == "--strategy")
-    p.icf.strategy = parseStrategy(a, args.value(a));
+    p.strategy = parseStrategy(a, args.value(a));
   else if (a == "--fallback") {
     const std::string v = args.value(a);
     try {
-      p.icf.fallback = pcl::icf::parseFallbackPolicy(v);
+      p.fallback = pcl::icf::parseFallbackPolicy(v);
     } catch (const std::invalid_argument&) {
       throw UsageError(a + ": '" + v + "' is not off, auto or always");
     }
   } else if (a == "--seed")
-    p.icf.seed = parseSeed(a, args.value(a));
+    p.seed = parseSeed(a, args.value(a));
   else if (a == "--threads") {
     const int t = static_cast<int>(parseInteger(a, args.value(a), 0, 1024));
     p.threads = t;
-    p.icf.threads = t;
   } else if (a == "--color" || a == "--colour") {
     const std::string v = args.value(a);
     if (v == "none")
@@ -157,27 +156,26 @@ bool parseLocalizerOption(const std::string& a, ArgumentReader& args,
   } else if (a == "--color-weight" || a == "--colour-weight")
     p.colour.weight = parseNumber(a, args.value(a));
   else if (a == "--cluster-tolerance")
-    p.segmentation.cluster.tolerance = parsePositive(a, args.value(a));
+    p.cluster.tolerance = parsePositive(a, args.value(a));
   else if (a == "--min-cluster-size")
-    p.segmentation.cluster.min_size =
-        static_cast<std::size_t>(parseInteger(a, args.value(a), 1, 100000000));
+    p.cluster.min_size = static_cast<std::size_t>(parseInteger(a, args.value(a), 1, 100000000));
   else if (a == "--inlier-distance")
-    p.icf.acceptance.inlier_distance = static_cast<float>(parsePositive(a, args.value(a)));
+    p.tuning().icf.acceptance.inlier_distance = static_cast<float>(parsePositive(a, args.value(a)));
   else if (a == "--min-coverage")
-    p.icf.acceptance.min_surface_coverage = parseFraction(a, args.value(a));
+    p.tuning().icf.acceptance.min_surface_coverage = parseFraction(a, args.value(a));
   else if (a == "--max-rmse")
-    p.icf.acceptance.max_rmse = parsePositive(a, args.value(a));
+    p.tuning().icf.acceptance.max_rmse = parsePositive(a, args.value(a));
   else if (a == "--gate-distance")
-    p.icf.acceptance.gate.distance = static_cast<float>(parsePositive(a, args.value(a)));
+    p.tuning().icf.acceptance.gate.distance = static_cast<float>(parsePositive(a, args.value(a)));
   else if (a == "--gate-max-far")
-    p.icf.acceptance.gate.max_points =
+    p.tuning().icf.acceptance.gate.max_points =
         static_cast<int>(parseInteger(a, args.value(a), 0, 100000000));
   else if (a == "--no-gate") {
     args.noValue(a);
-    p.icf.acceptance.gate.enabled = false;
+    p.tuning().icf.acceptance.gate.enabled = false;
   } else if (a == "--gate") {
     args.noValue(a);
-    p.icf.acceptance.gate.enabled = true;
+    p.tuning().icf.acceptance.gate.enabled = true;
   } else if (a == "--min-confidence") {
     p.min_confidence = parseFraction(a, args.value(a));
   } else if (a == "--max-instances")
@@ -380,7 +378,7 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
   if (exact_mesh)
     p.useExactMeshSettings();
   if (keep)
-    p.icf.global.keep = *keep;
+    p.tuning().icf.global.keep = *keep;
   if (p.colour.expected && !(p.colour.weight >= 0.0))
     throw UsageError("--color-weight must be >= 0");
   try {
@@ -433,42 +431,43 @@ std::string usageText(const std::string& program) {
     << "                               camera x right, y down, z forward) for a cloud in a\n"
     << "                               robot's frame (default: the file's VIEWPOINT)\n"
     << "  Search (lengths in metres, whatever the files' units):\n"
-    << "    --strategy fast|thesis   = the pose search (default: "
-    << pcl::icf::toString(p.icf.strategy) << ")\n"
+    << "    --strategy fast|thesis   = the pose search (default: " << pcl::icf::toString(p.strategy)
+    << ")\n"
     << "    --fallback off|auto|always = the SampleConsensus (FPFH) alignment: auto tries it\n"
     << "                               when the search's pose is rejected (default: "
-    << pcl::icf::toString(p.icf.fallback) << ")\n"
-    << "    --seed N                 = random seed; same seed, same result (default: " << p.icf.seed
+    << pcl::icf::toString(p.fallback) << ")\n"
+    << "    --seed N                 = random seed; same seed, same result (default: " << p.seed
     << ")\n"
     << "    --threads N              = threads, 0 for all cores (default: " << p.threads << ")\n"
     << "    --color R,G,B|#rrggbb|none = the object's colour, ranks clusters by colour\n"
     << "                               (default: none)\n"
     << "    --color-weight W         = weight of the colour cue (default: " << p.colour.weight
     << ")\n"
-    << "    --cluster-tolerance D    = gap that separates objects (default: "
-    << p.segmentation.cluster.tolerance << ")\n"
-    << "    --min-cluster-size N     = smallest object, in points (default: "
-    << p.segmentation.cluster.min_size << ")\n"
+    << "    --cluster-tolerance D    = gap that separates objects (default: " << p.cluster.tolerance
+    << ")\n"
+    << "    --min-cluster-size N     = smallest object, in points (default: " << p.cluster.min_size
+    << ")\n"
     << "  Acceptance:\n"
     << "    --inlier-distance D      = scene points this near the model are inliers (default: "
-    << p.icf.acceptance.inlier_distance << ")\n"
+    << p.tuning().icf.acceptance.inlier_distance << ")\n"
     << "    --min-coverage F         = share of the model's visible surface the scan must\n"
-    << "                               cover (default: " << p.icf.acceptance.min_surface_coverage
-    << ")\n"
+    << "                               cover (default: "
+    << p.tuning().icf.acceptance.min_surface_coverage << ")\n"
     << "    --max-rmse D             = RMS distance of the inliers (default: "
-    << p.icf.acceptance.max_rmse << ")\n"
+    << p.tuning().icf.acceptance.max_rmse << ")\n"
     << "    --gate                   = also apply the thesis's gate (default: off)\n"
     << "    --gate-distance D        = the gate: a cluster where more than max(N, "
-    << 100.0 * p.icf.acceptance.gate.max_fraction << "% of its points)\n"
+    << 100.0 * p.tuning().icf.acceptance.gate.max_fraction << "% of its points)\n"
     << "                               lie farther than D from the posed model is rejected\n"
-    << "                               (default: " << p.icf.acceptance.gate.distance << ")\n"
-    << "    --gate-max-far N         = that N (default: " << p.icf.acceptance.gate.max_points
+    << "                               (default: " << p.tuning().icf.acceptance.gate.distance
     << ")\n"
+    << "    --gate-max-far N         = that N (default: "
+    << p.tuning().icf.acceptance.gate.max_points << ")\n"
     << "    --no-gate                = turn the thesis's gate off\n"
     << "    --min-confidence C       = accept a pose whose verification confidence reaches C\n"
     << "                               (default: " << p.min_confidence << ")\n"
     << "    --keep N                 = search hypotheses refined per cluster (default: "
-    << p.icf.global.keep << ", with\n"
+    << p.tuning().icf.global.keep << ", with\n"
     << "                               --exact-mesh "
     << pcl::icf::localization::LocalizerParams::kExactMeshKeep
     << "; more find more partly hidden targets on a\n"
@@ -476,8 +475,8 @@ std::string usageText(const std::string& program) {
     << "    --exact-mesh             = the mesh is the object itself (CAD, synthetic): a pose\n"
     << "                               must fit the depth as closely as the sensor measures\n"
     << "                               (residual limits " << exact.fit_residual << " / "
-    << exact.max_residual << " sigma instead of " << p.verification.fit_residual << " / "
-    << p.verification.max_residual << ", for scanned\n"
+    << exact.max_residual << " sigma instead of " << p.tuning().verification.fit_residual << " / "
+    << p.tuning().verification.max_residual << ", for scanned\n"
     << "                               meshes), and "
     << pcl::icf::localization::LocalizerParams::kExactMeshKeep
     << " hypotheses are kept: the close fit refuses\n"

@@ -131,9 +131,9 @@ json resultJson(const Scene& scene, const Model& model, const ToolOptions& optio
   j["model"] = model.path;
   j["units"] = pcl_icf_tool::unitsName(scene.units);
   j["model_units"] = pcl_icf_tool::unitsName(model.units);
-  j["seed"] = options.params.icf.seed;
-  j["strategy"] = pcl::icf::toString(options.params.icf.strategy);
-  j["fallback"] = pcl::icf::toString(options.params.icf.fallback);
+  j["seed"] = options.params.seed;
+  j["strategy"] = pcl::icf::toString(options.params.strategy);
+  j["fallback"] = pcl::icf::toString(options.params.fallback);
   j["segment"] = options.params.segment;
   {
     const Eigen::Isometry3d camera = run.loc.camera_pose.cast<double>();

@@ -203,14 +203,15 @@ bool ObjectTracker::refine(const FrameView& view, const DepthImage& image,
   out.refine_ms = msSince(start);
   const auto verify_start = Clock::now();
   const Eigen::Isometry3f pose = r.scene_to_model.inverse();
-  out.verification = explainDepth(*object.model, pose, image, params_.localizer.verification);
+  out.verification =
+      explainDepth(*object.model, pose, image, params_.localizer.tuning().verification);
   out.confidence = out.verification.confidence;
   out.refine_confidence = out.confidence;
   out.verify_ms = msSince(verify_start);
   if (out.confidence < params_.localizer.min_confidence) {
     out.message =
         "the refined pose: " + describeRefusal(out.verification, params_.localizer.min_confidence,
-                                               params_.localizer.verification);
+                                               params_.localizer.tuning().verification);
     out.refine_message = out.message;
     return false;
   }
@@ -285,11 +286,11 @@ bool ObjectTracker::reacquire(const FrameView& view, const DepthImage& image,
   // points as well as the right one, and only the depth image (what it would see through)
   // tells them apart.
   const std::vector<Eigen::Isometry3f> starts =
-      startsWithShifts(globalSearch(*object.model, near, Eigen::Vector3f::Zero(), lp.icf.global,
-                                    lp.icf.seed, threads),
+      startsWithShifts(globalSearch(*object.model, near, Eigen::Vector3f::Zero(),
+                                    lp.tuning().icf.global, lp.seed, threads),
                        *object.model, params_.reacquire_shift);
   const int n = static_cast<int>(starts.size());
-  DepthVerificationParams verification = lp.verification;
+  DepthVerificationParams verification = lp.tuning().verification;
   verification.full_evidence = params_.reacquire_full_evidence;
   std::vector<Eigen::Isometry3f> poses(starts.size());
   std::vector<DepthExplanation> explanations(starts.size());
@@ -373,7 +374,7 @@ std::vector<int> ObjectTracker::explainedByOthers(const FrameView& view, DepthIm
     if (image.empty())
       image = depthImage(view, table);
     const std::vector<int> mine = pointsExplainedBy(*other.model, *other.last, image, view.points,
-                                                    params_.localizer.verification);
+                                                    params_.localizer.tuning().verification);
     explained.insert(explained.end(), mine.begin(), mine.end());
   }
   std::sort(explained.begin(), explained.end());

@@ -60,7 +60,7 @@ ObjectsLocalization localizeObjectsInCameraFrame(const pcl::PointCloud<PointT>& 
   const auto start = std::chrono::steady_clock::now();
   SceneView view = makeSceneView(scene);
   const double in_front = shareInFront(view.points);
-  if (in_front < params.min_points_in_front) {
+  if (in_front < params.tuning().min_points_in_front) {
     ObjectsLocalization all;
     all.status = LocalizationStatus::BadScene;
     all.message = "the scene lies behind the camera: only " +
@@ -75,7 +75,7 @@ ObjectsLocalization localizeObjectsInCameraFrame(const pcl::PointCloud<PointT>& 
   }
   segmentation::TabletopSegmentation segmentation;
   if (params.segment)
-    segmentation = segmentation::segmentTabletop(scene, params.segmentation);
+    segmentation = segmentation::segmentTabletop(scene, params.segmentationParams());
   const double segmentation_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return localizeObjectsInView(view, std::move(segmentation), objects, params, segmentation_ms);

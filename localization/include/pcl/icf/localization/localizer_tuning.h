@@ -7,9 +7,14 @@
 /** \file
  * \brief The localizer's calibration constants: what the hypotheses and their ranking were
  * calibrated with (doc/TUNING.md says what each means and how it was chosen). A user leaves
- * them as they are; a calibration run sets them here, through LocalizerParams::tuning. */
+ * them as they are; a calibration run sets them here, through LocalizerParams::tuning(). */
 
+#include <pcl/icf/localization/pose_alternatives.h>
+#include <pcl/icf/registration/estimate_pose.h>
 #include <pcl/icf/registration/point_pair_voting.h>
+#include <pcl/icf/segmentation/convexity_split.h>
+#include <pcl/icf/segmentation/tabletop_segmentation.h>
+#include <pcl/icf/verification/depth_verification.h>
 
 #include <cstddef>
 
@@ -58,10 +63,42 @@ struct SceneHypotheses {
   void validate() const;
 };
 
-/** \brief Every calibration constant of the localizer that is not a user's knob. */
+/** \brief Every calibration constant of the localizer that is not a user's knob (doc/TUNING.md).
+ * Reached through LocalizerParams::tuning(); the fields LocalizerParams has itself (the
+ * clusters, the strategy, the fallback, the seed, the threads) are read from there, so their
+ * copies here (segmentation.cluster, icf.strategy, icf.fallback, icf.seed, icf.threads) are
+ * not read. */
 struct LocalizerTuning {
+  /** The table plane, the points above it and the scene's sanity limits. */
+  segmentation::TabletopParams segmentation;
+  /** The registration of each hypothesis. Its acceptance.depth is not read: the seen-through
+   * check uses verification, as everything the localizer judges does. Its far-point gate
+   * allows FarPointGate::kLocalizerMaxFraction of the points (defaultIcf). */
+  IcfParams icf = defaultIcf();
+  /** The verification that decides (depth_verification.h): the posed model rendered into the
+   * camera's pixel grid and compared with the measured depth; tolerances scale with the
+   * sensor's noise at each pixel's depth and with the model's size. */
+  DepthVerificationParams verification;
+  /** The convexity split of a cluster wider than the model (LocalizerParams::split_merged). */
+  segmentation::ConvexitySplitParams split;
+  /** The look-alike turns (LocalizerParams::check_turns); each is refined as icf.refinement
+   * and verified as verification say (TurnChecks). */
+  PoseAlternativeParams alternatives;
   SceneHypotheses hypotheses;
+  /** A search's start pose whose confidence is below this is not given the final refinement,
+   * and a refused start ends that cluster's search (estimatePose's worth_refining); used as
+   * min(refine_min_confidence, LocalizerParams::min_confidence). 0: every start is refined. */
+  double refine_min_confidence = 0.01;
+  /** The scene must lie in front of the camera: at least this share of its finite points at
+   * positive depth, else BadScene (a camera pose given the wrong way round). */
+  double min_points_in_front = 0.5;
+  /** Two instances share at most this share of their explained points (the lesser one's);
+   * more, and they are one object found twice. */
+  double max_shared_points = 0.2;
 
+  /** IcfParams' defaults with the far-point gate's max_fraction at
+   * FarPointGate::kLocalizerMaxFraction. */
+  static IcfParams defaultIcf();
   /** \throws std::invalid_argument naming the field. */
   void validate() const;
 };

@@ -40,36 +40,52 @@ struct ColourCue {
   void validate() const;
 };
 
-/** \brief Parameters of localizeObject; lengths in scene units (metres by default). */
+/** \brief Parameters of localizeObject: the knobs a user sets; lengths in scene units
+ * (metres by default). The calibration constants are in tuning() (LocalizerTuning,
+ * doc/TUNING.md), left as they are by a user. */
 struct LocalizerParams {
   /** false: the whole cloud is one cluster (a cloud already cut to one object). */
   bool segment = true;
-  segmentation::TabletopParams segmentation;
-  /** The registration of each hypothesis; its acceptance.depth is not read: the seen-through
-   * check uses verification, as everything the localizer judges does. Its far-point gate
-   * allows FarPointGate::kLocalizerMaxFraction of the points by default (defaultIcf). */
-  IcfParams icf = defaultIcf();
-  /** The verification that decides (depth_verification.h): the posed model rendered into the
-   * camera's pixel grid and compared with the measured depth; tolerances scale with the
-   * sensor's noise at each pixel's depth and with the model's size. */
-  DepthVerificationParams verification;
+  /** The Euclidean clusters of the points above the table. */
+  segmentation::ClusterParams cluster;
+  /** Touching objects merge into one Euclidean cluster (the YCB-Video frame's four do). A
+   * cluster that spreads wider than the model is also split where its surface turns concave
+   * (segmentation::splitByConvexity) and every segment is tried as a cluster of its own,
+   * besides the whole. */
+  bool split_merged = true;
+  /** Instances reported (Localization::instances), best first. 1: the best only. Above 1,
+   * after a search that accepts a pose the points it explains are left out (as
+   * explained_indices are) and the rest of the scene is searched again, until this many are
+   * found or a search accepts nothing new (a touching copy is found on its own points). */
+  int max_instances = 1;
+  /** Every promising pose (confidence at least min_confidence / 2) is turned about the
+   * model's principal axes, refined and verified (turnedAlternatives) before it is judged:
+   * a clearly more confident turn replaces it, and the others as confident are reported
+   * (ClusterLocalization::alternatives). false: the search's pose as it is. */
+  bool check_turns = true;
+  ColourCue colour;
   /** A pose is accepted when its confidence (DepthExplanation::confidence) reaches this.
    * Chosen from the curve of false poses against missed objects over 160 present and absent
-   * cases, real and synthetic (doc/BENCHMARKS.md, "Identification"): the middle of the gap
-   * between the look-alikes (at most 0.80, one real case excepted) and the right poses (at
-   * least 0.95). */
+   * cases, real and synthetic (doc/TUNING.md): the middle of the gap between the look-alikes
+   * (at most 0.80, one real case excepted) and the right poses (at least 0.95). */
   double min_confidence = 0.875;
-  /** A search's start pose (its best hypothesis after the candidates' refinement, SAC's) whose
-   * confidence is below this is not given the final refinement, and a refused search start
-   * ends that cluster's search (estimatePose's worth_refining): most clusters of a real scene
-   * are other objects, whose confidence is 0 before and after it. 0: every start is refined.
-   * Used as min(refine_min_confidence, min_confidence): a start never needs more than an
-   * accepted pose, so min_confidence may be set below it (a calibration at 0).
-   * Calibrated (doc/experiments/2026-11-27-real-frame-time.md, "Where the time goes"): at 0.01
-   * every decision and pose of the 160 identification cases is the same as at 0, in 0.54-0.81x of
-   * the time; 0.1 is too much: it refuses a touching copy's start at 0.068 that the refinement
-   * makes acceptable (Localizer/TwoCopies). */
-  double refine_min_confidence = 0.01;
+  /** The search of a hypothesis (IcfParams::strategy). */
+  SearchStrategy strategy = IcfParams{}.strategy;
+  /** The SampleConsensus (FPFH) alignment as a fallback (IcfParams::fallback). */
+  FallbackPolicy fallback = IcfParams{}.fallback;
+  /** Seed of every random choice; same seed, same result. */
+  std::uint64_t seed = IcfParams{}.seed;
+  /** Threads of the clusters and of each search (0: all cores). The result does not depend
+   * on it. */
+  int threads = 0;
+  /** The camera's pose in the scene's frame (camera -> scene; camera frame x right, y down,
+   * z forward, as PCL's and every depth camera's driver give it). Unset: the cloud's own
+   * sensor_origin_ and sensor_orientation_ (a PCD's VIEWPOINT). A cloud moved into a robot's
+   * base frame needs it: pcl::transformPointCloud does not move sensor_origin_. The scene is
+   * localised in the camera's frame and every pose is reported in the scene's frame, so a
+   * cloud and the same cloud moved rigidly with its camera give the same poses up to the move
+   * (and float rounding). */
+  std::optional<Eigen::Isometry3f> camera_pose;
   /** Intrinsics of the camera, for an unorganized cloud (an organized one gives its own, fitted
    * to its points). Unset: a virtual camera at the cloud's point spacing. */
   std::optional<PinholeIntrinsics> intrinsics;
@@ -82,75 +98,31 @@ struct LocalizerParams {
    * a target touching an explained neighbour is searched on its own points. Each must index
    * the scene. */
   std::vector<int> explained_indices;
-  /** The far-point gate is icf.acceptance.gate (FarPointGate; off by default, the verification
-   * decides). Here a cluster is refused when more than allowed() of the points the posed model
-   * claims lie farther than its distance from the closest face. A cluster of one object
-   * (compact, or a convexity segment) is counted whole, as in the thesis; in a merged cluster
-   * only the points inside the rendered model's silhouette and behind its surface count. */
-  ColourCue colour;
-  /** Touching objects merge into one Euclidean cluster (the YCB-Video frame's four do). A
-   * cluster that spreads wider than the model (icf.global.merged_cluster_ratio) is also split
-   * where its surface turns concave (segmentation::splitByConvexity) and every segment is tried as
-   * a cluster of its own, besides the whole. */
-  bool split_merged = true;
-  segmentation::ConvexitySplitParams split;
-  /** A convexity segment holding at least this share of its cluster's points is the cluster
-   * less a fringe: the same hypothesis, so the cluster is not searched again after it (its
-   * segments are judged first, the whole only when none was accepted). 1: the whole is
-   * searched whenever no segment was accepted. */
-  double whole_segment_share = 0.9;
-  /** Clusters localised in parallel (0: all cores). The result does not depend on it. */
-  int threads = 0;
-  /** The camera's pose in the scene's frame (camera -> scene; camera frame x right, y down,
-   * z forward, as PCL's and every depth camera's driver give it). Unset: the cloud's own
-   * sensor_origin_ and sensor_orientation_ (a PCD's VIEWPOINT). A cloud moved into a robot's
-   * base frame needs it: pcl::transformPointCloud does not move sensor_origin_. The scene is
-   * localised in the camera's frame and every pose is reported in the scene's frame, so a
-   * cloud and the same cloud moved rigidly with its camera give the same poses up to the move
-   * (and float rounding). */
-  std::optional<Eigen::Isometry3f> camera_pose;
-  /** The scene must lie in front of the camera: at least this share of its finite points at
-   * positive depth, else BadScene (a camera pose given the wrong way round). */
-  double min_points_in_front = 0.5;
-  /** Instances reported (Localization::instances), best first. 1: the best only. Above 1,
-   * after a search that accepts a pose the points it explains are left out (as
-   * explained_indices are) and the rest of the scene is searched again, until this many are
-   * found or a search accepts nothing new (a touching copy is found on its own points). */
-  int max_instances = 1;
-  /** Two instances share at most this share of their explained points (the lesser one's);
-   * more, and they are one object found twice. */
-  double max_shared_points = 0.2;
-  /** Every promising pose (confidence at least min_confidence / 2) is turned about the
-   * model's principal axes, refined and verified (turnedAlternatives) before it is judged:
-   * a turn whose confidence is higher by more than alternatives.confidence_margin replaces
-   * it, and the others within the margin are reported (ClusterLocalization::alternatives).
-   * false: the search's pose as it is. */
-  bool check_turns = true;
-  /** Their parameters; each turn is refined as icf.refinement and verified as verification
-   * say (TurnChecks). */
-  PoseAlternativeParams alternatives;
-
-  /** Calibration constants (localizer_tuning.h): left as they are by a user. */
-  LocalizerTuning tuning;
 
   /** \brief Switches to the settings for a mesh that is the object itself (a CAD model of a
    * manufactured part, a synthetic suite's mesh): the verification's exact-mesh residual
    * limits (DepthVerificationParams::forExactMesh), which refuse look-alikes a few
-   * millimetres off, and kExactMeshKeep search hypotheses per cluster. A verification that
-   * refuses look-alikes affords more hypotheses: on the clutter suite, keep 24 adds 5 right
-   * poses and no false one under these limits, but 5 false poses under the scanned-mesh
-   * limits, which is why the defaults keep 12
-   * (doc/experiments/2026-11-29-clutter-hypotheses-exact-mesh-foam-brick.md, "An exact mesh affords
-   * more hypotheses"). It overwrites icf.global.keep, verification.fit_residual and
-   * verification.max_residual: set your own values of those after it. Everything else is left
-   * as it is. */
+   * millimetres off, and kExactMeshKeep search hypotheses per cluster (doc/TUNING.md, "An
+   * exact mesh"). It overwrites tuning().icf.global.keep, tuning().verification.fit_residual
+   * and tuning().verification.max_residual: set your own values of those after it. */
   void useExactMeshSettings();
-  /** IcfParams' defaults with the far-point gate's max_fraction at
-   * FarPointGate::kLocalizerMaxFraction. */
-  static IcfParams defaultIcf();
   static constexpr std::size_t kExactMeshKeep = 24;
 
+  /** The calibration constants (LocalizerTuning): the one door to them, for calibration runs
+   * and comparisons. */
+  LocalizerTuning& tuning() { return tuning_; }
+  const LocalizerTuning& tuning() const { return tuning_; }
+  /** What each hypothesis is registered with: tuning().icf with this struct's strategy,
+   * fallback, seed and threads. */
+  IcfParams icfParams() const;
+  /** What the scene is segmented with: tuning().segmentation with this struct's cluster. */
+  segmentation::TabletopParams segmentationParams() const;
+
+  /** \throws std::invalid_argument naming the field. */
   void validate() const;
+
+ private:
+  LocalizerTuning tuning_;
 };
 
 /** \brief The camera pose localizeObject uses for \a scene: params.camera_pose, else the
@@ -236,7 +208,7 @@ std::vector<int> rankInstances(const std::vector<ClusterLocalization>& clusters,
 
 /** \brief Find a known object in a table-top scene (thesis chapters 5-6): segment the table
  * and the clusters, run IterativeClosestFace on every cluster in parallel, apply the
- * acceptance rules and rank. Deterministic for params.icf.seed; independent of threads.
+ * acceptance rules and rank. Deterministic for params.seed; independent of threads.
  * \throws std::invalid_argument for invalid parameters only; bad data gives a status. */
 template <typename PointT>
 Localization localizeObject(const pcl::PointCloud<PointT>& scene, const IcfModel& model,

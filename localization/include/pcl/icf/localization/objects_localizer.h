@@ -66,7 +66,7 @@ struct ObjectsLocalization {
 /** \brief Finds every object of \a objects in \a scene in one pass (see the file's comment).
  * \a params apply to every object, except max_instances (each query's own) and the colour
  * cue, which describes one object: it must be unset when more than one is asked for.
- * localizeObject is the one-object case of the same code. Deterministic for params.icf.seed;
+ * localizeObject is the one-object case of the same code. Deterministic for params.seed;
  * independent of params.threads.
  * \throws std::invalid_argument for invalid parameters, an empty list or a null model; bad
  * data gives a status. */

@@ -196,7 +196,7 @@ struct PoseEstimateOptions {
    * (IcfParams::check_candidates); when it returns false that start is not refined nor measured
    * (IcfResult::refinement_skipped; the start is reported as it is, Rejected), and a refused
    * search start ends the search (no SAC fallback after it). Never called with a guess. The
-   * localizer passes its depth verification here (LocalizerParams::refine_min_confidence):
+   * localizer passes its depth verification here (LocalizerTuning::refine_min_confidence):
    * most clusters of a real scene are other objects, and their final refinement was a third of
    * a frame's time. */
   StartCheck worth_refining;

@@ -150,7 +150,7 @@ struct TrackedFrame {
  *
  * Frames must come in order from the same camera (the table plane and the intrinsics are
  * kept between frames; a frame of another size fits them again). Deterministic: the same
- * frames give the same poses (the search is seeded by localizer.icf.seed, the refinement
+ * frames give the same poses (the search is seeded by localizer.seed, the refinement
  * reduces in a fixed order). The objects are refined in parallel, one per thread
  * (localizer.threads; 0: all cores), each into its own slot, so the result does not depend on
  * the thread count; searches run one object after another, each in parallel inside. The

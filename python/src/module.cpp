@@ -428,15 +428,17 @@ PYBIND11_MODULE(pcl_icf, m) {
                std::to_string(model.icf->radius()) + " m, read in " + model.units + ">";
       });
 
-  m.def("localize", &pip::localize,
-        "localize(scene_xyz[, rgb], model, camera=None, **params)\n\n"
-        "scene_xyz: (N, 3) or organized (H, W, 3) float32/float64, metres, NaN for no depth;\n"
-        "rgb: uint8 of the same shape (optional); camera: 4x4 camera -> scene pose (default:\n"
-        "identity); exact_mesh=True: the mesh is the object itself (CAD): its closer residual\n"
-        "limits and more hypotheses (the tool's --exact-mesh; keywords given with it win);\n"
-        "params: see localize_defaults(). Returns a namespace with status, message,\n"
-        "found, instances (best first), best, clusters, camera_pose and timing; each instance\n"
-        "has pose (4x4), confidence, verification terms, quality, alternatives, time_ms.");
+  static const std::string localize_doc =
+      "localize(scene_xyz[, rgb], model, camera=None, **params)\n\n"
+      "scene_xyz: (N, 3) or organized (H, W, 3) float32/float64, metres, NaN for no depth;\n"
+      "rgb: uint8 of the same shape (optional); camera: 4x4 camera -> scene pose (default:\n"
+      "identity); exact_mesh=True: the mesh is the object itself (CAD): its closer residual\n"
+      "limits and more hypotheses (the tool's --exact-mesh; keywords given with it win);\n"
+      "params: see localize_defaults(). Returns a namespace with status, message,\n"
+      "found, instances (best first), best, clusters, camera_pose and timing; each instance\n"
+      "has pose (4x4), confidence, verification terms, quality, alternatives, time_ms." +
+      pip::keywordDoc(false);
+  m.def("localize", &pip::localize, localize_doc.c_str());
   m.def("localize_many", &pip::localizeMany, py::arg("scene_xyz"), py::arg("models"),
         py::arg("rgb") = py::none(), py::arg("camera") = py::none(), py::arg("names") = py::none(),
         py::arg("counts") = py::none(),
@@ -461,4 +463,8 @@ PYBIND11_MODULE(pcl_icf, m) {
         "The keyword parameters of localize() with their C++ defaults.");
   m.def("estimate_pose_defaults", &pip::icfDefaults,
         "The keyword parameters of estimate_pose() with their C++ defaults.");
+  m.def("fields", &pip::localizerFieldList,
+        "The registered keywords of localize() (the tool's --set and --list-fields, the "
+        "bench's overrides): a dict each with name, kind, min, max, choices, default, tuning "
+        "(a calibration constant) and doc.");
 }

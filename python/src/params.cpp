@@ -4,6 +4,10 @@
  */
 #include "params.h"
 
+#include <pcl/icf/localization/localizer_fields.h>
+#include <pcl/icf/registration/parameter_fields.h>
+#include <pcl/icf/tracking/tracker_fields.h>
+
 #include <pybind11/stl.h>
 
 #include <functional>
@@ -26,55 +30,46 @@ struct Field {
 template <typename Params>
 using FieldTable = std::map<std::string, Field<Params>>;
 
-/** A plain member reached through \a access (a lambda returning a reference). */
-template <typename Params, typename T, typename Access>
-Field<Params> member(Access access) {
-  return {[access](Params& p, const py::handle& v) { access(p) = v.cast<T>(); },
-          [access](const Params& p) { return py::cast(access(const_cast<Params&>(p))); }};
+/** A registered field (parameter_fields.h) as a keyword: a flag takes a bool, a count an
+ * int, a real a number, a choice its name; the registry checks the value. */
+template <typename Params>
+Field<Params> registered(const pcl::icf::ParameterField<Params>& f) {
+  using pcl::icf::FieldKind;
+  return {[f](Params& p, const py::handle& v) {
+            if (f.kind == FieldKind::Choice)
+              pcl::icf::setFieldText(f, p, v.cast<std::string>());
+            else if (f.kind == FieldKind::Flag)
+              pcl::icf::setFieldNumber(f, p, v.cast<bool>() ? 1.0 : 0.0);
+            else if (f.kind == FieldKind::Count)
+              pcl::icf::setFieldNumber(f, p, static_cast<double>(v.cast<long long>()));
+            else
+              pcl::icf::setFieldNumber(f, p, v.cast<double>());
+          },
+          [f](const Params& p) -> py::object {
+            switch (f.kind) {
+              case FieldKind::Choice:
+                return py::str(f.get_choice(p));
+              case FieldKind::Flag:
+                return py::bool_(f.get_number(p) != 0.0);
+              case FieldKind::Count:
+                return py::int_(static_cast<long long>(f.get_number(p)));
+              case FieldKind::Real:
+                break;
+            }
+            return py::float_(f.get_number(p));
+          }};
 }
 
-#define PCL_ICF_FIELD(Params, T, expr) member<Params, T>([](Params& p) -> T& { return p.expr; })
-
-/** An enum member given by its name: \a parse reads it, pcl::icf::toString writes it. */
-template <typename Params, typename T, typename Access>
-Field<Params> named(Access access, T (*parse)(const std::string&)) {
-  return {
-      [access, parse](Params& p, const py::handle& v) { access(p) = parse(v.cast<std::string>()); },
-      [access](const Params& p) {
-        return py::cast(pcl::icf::toString(access(const_cast<Params&>(p))));
-      }};
+template <typename Params>
+FieldTable<Params> registeredTable(const pcl::icf::FieldRegistry<Params>& registry) {
+  FieldTable<Params> t;
+  for (const auto& f : registry)
+    t[f.name] = registered(f);
+  return t;
 }
-
-#define PCL_ICF_NAMED(Params, T, expr, parse) \
-  named<Params, T>([](Params& p) -> T& { return p.expr; }, &pcl::icf::parse)
 
 FieldTable<pcl::icf::IcfParams> icfTable() {
-  using P = pcl::icf::IcfParams;
-  FieldTable<P> t;
-  t["seed"] = PCL_ICF_FIELD(P, std::uint64_t, seed);
-  t["threads"] = PCL_ICF_FIELD(P, int, threads);
-  t["exact_candidates"] = PCL_ICF_FIELD(P, std::size_t, exact_candidates);
-  t["candidate_points"] = PCL_ICF_FIELD(P, std::size_t, candidate_points);
-  t["check_candidates"] = PCL_ICF_FIELD(P, bool, check_candidates);
-  t["coarse_points"] = PCL_ICF_FIELD(P, std::size_t, coarse_points);
-  t["fine_iterations"] = PCL_ICF_FIELD(P, int, fine_iterations);
-  t["prescreen_share"] = PCL_ICF_FIELD(P, float, global.prescreen_share);
-  t["inlier_distance"] = PCL_ICF_FIELD(P, float, acceptance.inlier_distance);
-  t["min_surface_coverage"] = PCL_ICF_FIELD(P, double, acceptance.min_surface_coverage);
-  t["max_rmse"] = PCL_ICF_FIELD(P, double, acceptance.max_rmse);
-  t["min_inliers"] = PCL_ICF_FIELD(P, std::size_t, acceptance.min_inliers);
-  t["max_seen_through"] = PCL_ICF_FIELD(P, double, acceptance.max_seen_through);
-  t["far_point_gate"] = PCL_ICF_FIELD(P, bool, acceptance.gate.enabled);
-  t["gate_distance"] = PCL_ICF_FIELD(P, float, acceptance.gate.distance);
-  t["gate_max_far_points"] = PCL_ICF_FIELD(P, int, acceptance.gate.max_points);
-  t["gate_max_far_fraction"] = PCL_ICF_FIELD(P, double, acceptance.gate.max_fraction);
-  t["rotations"] = PCL_ICF_FIELD(P, std::size_t, global.rotations);
-  t["keep"] = PCL_ICF_FIELD(P, std::size_t, global.keep);
-  t["distinct_surface"] = PCL_ICF_FIELD(P, float, global.distinct_surface);
-  t["max_points"] = PCL_ICF_FIELD(P, std::size_t, refinement.max_points);
-  t["strategy"] = PCL_ICF_NAMED(P, pcl::icf::SearchStrategy, strategy, parseSearchStrategy);
-  t["fallback"] = PCL_ICF_NAMED(P, pcl::icf::FallbackPolicy, fallback, parseFallbackPolicy);
-  return t;
+  return registeredTable(pcl::icf::icfFields());
 }
 
 pcl::icf::PinholeIntrinsics intrinsicsOf(const py::handle& v) {
@@ -104,33 +99,7 @@ pcl::icf::PinholeIntrinsics intrinsicsOf(const py::handle& v) {
 
 FieldTable<localization::LocalizerParams> localizerTable() {
   using P = localization::LocalizerParams;
-  FieldTable<P> t;
-  for (auto& [name, field] : icfTable())
-    t[name] = {[set = field.set](P& p, const py::handle& v) { set(p.tuning().icf, v); },
-               [get = field.get](const P& p) { return get(p.tuning().icf); }};
-  // The registration's fields the localizer has itself (LocalizerParams::icfParams).
-  t["threads"] = PCL_ICF_FIELD(P, int, threads);
-  t["seed"] = PCL_ICF_FIELD(P, std::uint64_t, seed);
-  t["strategy"] = PCL_ICF_NAMED(P, pcl::icf::SearchStrategy, strategy, parseSearchStrategy);
-  t["fallback"] = PCL_ICF_NAMED(P, pcl::icf::FallbackPolicy, fallback, parseFallbackPolicy);
-  t["segment"] = PCL_ICF_FIELD(P, bool, segment);
-  t["min_confidence"] = PCL_ICF_FIELD(P, double, min_confidence);
-  t["refine_min_confidence"] = PCL_ICF_FIELD(P, double, tuning().refine_min_confidence);
-  t["max_instances"] = PCL_ICF_FIELD(P, int, max_instances);
-  t["max_shared_points"] = PCL_ICF_FIELD(P, double, tuning().max_shared_points);
-  t["min_points_in_front"] = PCL_ICF_FIELD(P, double, tuning().min_points_in_front);
-  t["split_merged"] = PCL_ICF_FIELD(P, bool, split_merged);
-  t["check_turns"] = PCL_ICF_FIELD(P, bool, check_turns);
-  t["turn_points"] = PCL_ICF_FIELD(P, std::size_t, tuning().alternatives.max_points);
-  t["fit_residual"] = PCL_ICF_FIELD(P, double, tuning().verification.fit_residual);
-  t["max_residual"] = PCL_ICF_FIELD(P, double, tuning().verification.max_residual);
-  t["full_evidence"] = PCL_ICF_FIELD(P, double, tuning().verification.full_evidence);
-  t["max_conflict"] = PCL_ICF_FIELD(P, double, tuning().verification.max_conflict);
-  t["max_continuation"] = PCL_ICF_FIELD(P, double, tuning().verification.max_continuation);
-  t["cluster_tolerance"] = PCL_ICF_FIELD(P, double, cluster.tolerance);
-  t["min_cluster_size"] = PCL_ICF_FIELD(P, std::size_t, cluster.min_size);
-  t["max_cluster_size"] = PCL_ICF_FIELD(P, std::size_t, cluster.max_size);
-  t["colour_weight"] = PCL_ICF_FIELD(P, double, colour.weight);
+  FieldTable<P> t = registeredTable(localization::localizerFields());
   t["colour"] = {[](P& p, const py::handle& v) {
                    if (v.is_none()) {
                      p.colour.expected.reset();
@@ -167,25 +136,13 @@ FieldTable<localization::LocalizerParams> localizerTable() {
 
 FieldTable<pcl::icf::tracking::TrackerParams> trackerTable() {
   using P = pcl::icf::tracking::TrackerParams;
-  FieldTable<P> t;
+  FieldTable<P> t = registeredTable(pcl::icf::tracking::trackerFields());
   // Every localize() keyword sets the search and the verification (TrackerParams::localizer).
   for (auto& [name, field] : localizerTable())
     t[name] = {[set = field.set](P& p, const py::handle& v) { set(p.localizer, v); },
                [get = field.get](const P& p) { return get(p.localizer); }};
-  t["crop_margin"] = PCL_ICF_FIELD(P, float, crop_margin);
-  t["table_distance"] = PCL_ICF_FIELD(P, float, table_distance);
-  t["velocity_gain"] = PCL_ICF_FIELD(P, float, velocity_gain);
-  t["search_interval"] = PCL_ICF_FIELD(P, int, search_interval);
-  t["reacquire_margin"] = PCL_ICF_FIELD(P, float, reacquire_margin);
-  t["reacquire_frames"] = PCL_ICF_FIELD(P, int, reacquire_frames);
-  t["reacquire_shift"] = PCL_ICF_FIELD(P, float, reacquire_shift);
-  t["reacquire_full_evidence"] = PCL_ICF_FIELD(P, double, reacquire_full_evidence);
-  t["refine_max_points"] = PCL_ICF_FIELD(P, std::size_t, refinement.max_points);
   return t;
 }
-
-#undef PCL_ICF_FIELD
-#undef PCL_ICF_NAMED
 
 template <typename Params>
 void apply(const FieldTable<Params>& table, Params& params, const py::kwargs& kwargs,
@@ -201,7 +158,9 @@ void apply(const FieldTable<Params>& table, Params& params, const py::kwargs& kw
     } catch (const py::cast_error&) {
       throw py::type_error(name + ": cannot take " + py::repr(item.second).cast<std::string>());
     } catch (const std::invalid_argument& e) {
-      throw py::value_error(name + ": " + e.what());
+      // The registry's messages name the field already.
+      const std::string what = e.what();
+      throw py::value_error(what.rfind(name + ":", 0) == 0 ? what : name + ": " + what);
     }
   }
   params.validate();
@@ -216,17 +175,17 @@ py::dict defaults(const FieldTable<Params>& table) {
   return d;
 }
 
-const FieldTable<localization::LocalizerParams>& localizerFields() {
+const FieldTable<localization::LocalizerParams>& localizerKeywords() {
   static const auto table = localizerTable();
   return table;
 }
 
-const FieldTable<pcl::icf::IcfParams>& icfFields() {
+const FieldTable<pcl::icf::IcfParams>& icfKeywords() {
   static const auto table = icfTable();
   return table;
 }
 
-const FieldTable<pcl::icf::tracking::TrackerParams>& trackerFields() {
+const FieldTable<pcl::icf::tracking::TrackerParams>& trackerKeywords() {
   static const auto table = trackerTable();
   return table;
 }
@@ -253,27 +212,59 @@ py::kwargs withExactMesh(localization::LocalizerParams& params, const py::kwargs
 }  // namespace
 
 void applyLocalizerKwargs(localization::LocalizerParams& params, const py::kwargs& kwargs) {
-  apply(localizerFields(), params, withExactMesh(params, kwargs), "localize");
+  apply(localizerKeywords(), params, withExactMesh(params, kwargs), "localize");
 }
 
 void applyIcfKwargs(pcl::icf::IcfParams& params, const py::kwargs& kwargs) {
-  apply(icfFields(), params, kwargs, "estimate_pose");
+  apply(icfKeywords(), params, kwargs, "estimate_pose");
 }
 
 void applyTrackerKwargs(pcl::icf::tracking::TrackerParams& params, const py::kwargs& kwargs) {
-  apply(trackerFields(), params, withExactMesh(params.localizer, kwargs), "Tracker");
+  apply(trackerKeywords(), params, withExactMesh(params.localizer, kwargs), "Tracker");
 }
 
 py::dict trackerDefaults() {
-  return defaults(trackerFields());
+  return defaults(trackerKeywords());
 }
 
 py::dict localizerDefaults() {
-  return defaults(localizerFields());
+  return defaults(localizerKeywords());
 }
 
 py::dict icfDefaults() {
-  return defaults(icfFields());
+  return defaults(icfKeywords());
+}
+
+py::list localizerFieldList() {
+  static const char* const kinds[] = {"flag", "count", "real", "choice"};
+  const localization::LocalizerParams defaults;
+  py::list out;
+  for (const auto& f : localization::localizerFields()) {
+    py::dict d;
+    d["name"] = f.name;
+    d["kind"] = kinds[static_cast<int>(f.kind)];
+    d["min"] = f.min;
+    d["max"] = f.max;
+    d["choices"] = f.choices;
+    d["default"] = localizerKeywords().at(f.name).get(defaults);
+    d["tuning"] = f.tuning;
+    d["doc"] = f.doc;
+    out.append(d);
+  }
+  return out;
+}
+
+const std::string& keywordDoc(bool tracker) {
+  static const std::string localizer =
+      "\n\nKeywords (name kind [range] = default  meaning; fields() lists them):\n" +
+      pcl::icf::describeFields(localization::localizerFields()) +
+      "colour  (r, g, b) in [0, 1] or None = None  the object's colour\n"
+      "intrinsics  dict fx, fy, cx, cy, width, height or None = None  an unorganized "
+      "cloud's camera\n";
+  static const std::string with_tracker =
+      "\n\nThe tracker's own keywords:\n" +
+      pcl::icf::describeFields(pcl::icf::tracking::trackerFields()) + localizer;
+  return tracker ? with_tracker : localizer;
 }
 
 }  // namespace pcl_icf_python

@@ -39,4 +39,12 @@ py::dict localizerDefaults();
 /** \brief Every keyword estimate_pose() takes, with its C++ default. */
 py::dict icfDefaults();
 
+/** \brief The registered fields of localize() (localizerFields()), one dict each: name, kind,
+ * min, max, choices, default, tuning, doc. */
+py::list localizerFieldList();
+
+/** \brief "Keywords:" and one line per registered field (describeFields), for a docstring:
+ * of localize() (\a tracker false) or of Tracker() (true: the tracker's own first). */
+const std::string& keywordDoc(bool tracker);
+
 }  // namespace pcl_icf_python

@@ -109,16 +109,16 @@ class Tracker {
 }  // namespace
 
 void bindTracker(py::module_& m) {
+  static const std::string init_doc =
+      "Tracker(**params): every localize() keyword (search and verification) and the "
+      "tracker's own; see tracker_defaults()." +
+      keywordDoc(true);
   py::class_<Tracker>(m, "Tracker",
                       "Follows objects over consecutive frames of one camera "
                       "(pcl::icf::tracking::ObjectTracker): a search on the first frame and "
                       "after a loss, a refinement from the last pose otherwise, each verified "
                       "against the depth.")
-      .def(py::init<const py::kwargs&>(),
-           "Tracker(**params): every localize() keyword (search and verification) and "
-           "crop_margin, table_distance, velocity_gain, search_interval, reacquire_margin, "
-           "reacquire_frames, reacquire_shift, reacquire_full_evidence, refine_max_points; "
-           "see tracker_defaults().")
+      .def(py::init<const py::kwargs&>(), init_doc.c_str())
       .def("add_object", &Tracker::addObject, py::arg("model"), py::arg("name"),
            "Follow model under name; returns its index in every frame's objects.")
       .def("set_pose", &Tracker::setPose, py::arg("object"), py::arg("pose"),

@@ -338,6 +338,12 @@ TEST_F(Tool, EveryBadInputExitsTwoWithOneLine) {
   expectBadInput(scene + " " + mesh + " --inlier-distance nan", "--inlier-distance");
   expectBadInput(scene + " " + mesh + " --color 300,0,0", "--color");
   expectBadInput(scene + " " + mesh + " --json", "--json needs a value");
+  // The field registry's --set: kind, range and name, each naming the field.
+  expectBadInput(scene + " " + mesh + " --set keep=2.5", "--set: keep: 2.5 is not a whole number");
+  expectBadInput(scene + " " + mesh + " --set min_confidence=1.5",
+                 "min_confidence: 1.5 is outside");
+  expectBadInput(scene + " " + mesh + " --set kep=1", "unknown field 'kep'");
+  expectBadInput(scene + " " + mesh + " --set keep", "'keep' is not NAME=VALUE");
   // Missing files and unknown extensions.
   expectBadInput(quote(path("nope.pcd")) + " " + mesh, "no such file");
   expectBadInput(scene + " " + quote(path("nope.ply")), "no such file");
@@ -666,6 +672,22 @@ TEST_F(Tool, HelpPrintsUsage) {
   EXPECT_NE(r.out.find("Syntax is: pcl_icf_tool SCENE MODEL <options>"), std::string::npos);
   EXPECT_NE(r.out.find("Exit status: 0 object found, 1 nothing accepted, 2 bad usage"),
             std::string::npos);
+}
+
+TEST_F(Tool, ListFieldsPrintsTheRegistryWithItsDefaults) {
+  const Result r = run("--list-fields");
+  EXPECT_EQ(r.code, 0);
+  // One line per field: name, kind, range, the C++ default, its meaning.
+  EXPECT_NE(r.out.find("\nmin_confidence  real [0, 1] = 0.875  "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\nkeep  count [1, 10000000] = 12  "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\nstrategy  choice (fast|thesis) = fast  "), std::string::npos);
+  EXPECT_NE(r.out.find("\nfit_residual  real [0, inf] = 1.5  "), std::string::npos);
+
+  // --set reaches the run: the seed the JSON reports.
+  const Result set = run(quote(demo("tabletop_box5.pcd")) + " " + quote(demo("box5.ply")) +
+                         " --set seed=7,max_instances=1 --json " + quote(path("set.json")));
+  ASSERT_LE(set.code, 1) << set.out << set.err;
+  EXPECT_EQ(json::parse(slurp(path("set.json")))["seed"], 7);
 }
 
 }  // namespace

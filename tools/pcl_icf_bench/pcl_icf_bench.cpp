@@ -16,21 +16,19 @@
 //                          voxel_size, normal_radius, feature_radius, max_iterations,
 //                          correspondence_randomness, similarity_threshold,
 //                          max_correspondence_distance, inlier_fraction, model_samples, seed
-//     --icf K=V,...        override IcfParams fields for the icf-* methods and icf-scene, for
-//                          calibration curves: rotations, keep, subsample, prescreen_points,
-//                          prescreen_share, exact_candidates, candidate_points, coarse_points,
-//                          fine_iterations, refinement_max_points, distinct_surface
-//     --verification K=V,... override icf-scene's DepthVerificationParams fields, for
-//                          calibration curves: fit_residual, max_residual, full_evidence,
-//                          max_conflict, max_continuation (an exact mesh, a synthetic suite's,
-//                          fits closer than a scanned one: doc/BENCHMARKS.md)
-//     --tuning K=V,...     override icf-scene's calibration constants (LocalizerTuning), for
-//                          calibration curves: clusters, point_pairs (0 or 1), per_cluster,
-//                          judged, per_location, min_prescore, crop_margin, refine_points,
-//                          and the votes'
-//                          pp_kept, pp_per_place, pp_references, pp_reference_share, pp_rescored,
-//                          pp_peaks, pp_spread; the models' point pair table: pp_step, pp_coplanar,
-//                          pp_cap
+//     --icf K=V,...        override registered IcfParams fields (pcl_icf_tool --list-fields
+//                          lists them with their ranges and defaults) for the icf-* methods and
+//                          icf-scene, for calibration curves: rotations, keep, subsample,
+//                          prescreen_points, prescreen_share, exact_candidates,
+//                          candidate_points, coarse_points, fine_iterations, max_points, ...
+//     --verification K=V,..., --tuning K=V,...  override icf-scene's registered
+//                          LocalizerParams fields (the same names as Python's keywords and the
+//                          tool's --set): fit_residual, max_residual, full_evidence,
+//                          max_conflict, max_continuation; clusters, point_pairs, per_cluster,
+//                          judged, per_location, min_prescore, hypothesis_crop_margin,
+//                          refine_points, pp_kept, pp_per_place, pp_references,
+//                          pp_reference_share, pp_rescored, pp_peaks, pp_spread, ...; --tuning
+//                          also takes the models' point pair table: pp_step, pp_coplanar, pp_cap
 //     --exact-mesh         icf-scene with the tool's --exact-mesh settings
 //                          (LocalizerParams::useExactMeshSettings); --icf and --verification
 //                          fields given with it win
@@ -79,6 +77,9 @@
 #include "bench_report.h"
 #include "bench_scene.h"
 #include "common/arguments.h"
+
+#include <pcl/icf/localization/localizer_fields.h>
+#include <pcl/icf/registration/parameter_fields.h>
 
 #include <pcl/console/print.h>
 
@@ -204,104 +205,23 @@ void applySacOverride(pcl::icf::SacParams& p, const std::string& kv) {
     throw std::invalid_argument("--sac: unknown field " + key);
 }
 
-/** Sets \a p's field \a key (the names --icf lists) to \a v; std::invalid_argument for another
- * name. The ranges are IcfParams::validate's. */
-void applyIcfOverride(pcl::icf::IcfParams& p, const std::string& key, double v) {
-  const std::map<std::string, std::size_t*> counts = {
-      {"rotations", &p.global.rotations},
-      {"keep", &p.global.keep},
-      {"subsample", &p.global.subsample},
-      {"prescreen_points", &p.global.prescreen_points},
-      {"exact_candidates", &p.exact_candidates},
-      {"candidate_points", &p.candidate_points},
-      {"coarse_points", &p.coarse_points},
-      {"refinement_max_points", &p.refinement.max_points}};
-  if (const auto c = counts.find(key); c != counts.end()) {
-    if (!(v >= 0.0 && v <= 1e7 && v == std::floor(v)))
-      throw std::invalid_argument("--icf " + key + " must be a whole number in [0, 1e7]");
-    *c->second = static_cast<std::size_t>(v);
-  } else if (key == "prescreen_share")
-    p.global.prescreen_share = static_cast<float>(v);
-  else if (key == "distinct_surface")
-    p.global.distinct_surface = static_cast<float>(v);
-  else if (key == "fine_iterations") {
-    if (!(v >= 1.0 && v <= 100000.0 && v == std::floor(v)))
-      throw std::invalid_argument("--icf fine_iterations must be a whole number in [1, 100000]");
-    p.fine_iterations = static_cast<int>(v);
-  } else
-    throw std::invalid_argument("--icf: unknown field " + key);
-}
-
-/** Sets \a p's field \a key (the names --verification lists) to \a v; std::invalid_argument
- * for another name. The ranges are DepthVerificationParams::validate's. */
-void applyVerificationOverride(pcl::icf::DepthVerificationParams& p, const std::string& key,
-                               double v) {
-  const std::map<std::string, double*> fields = {{"fit_residual", &p.fit_residual},
-                                                 {"max_residual", &p.max_residual},
-                                                 {"full_evidence", &p.full_evidence},
-                                                 {"max_conflict", &p.max_conflict},
-                                                 {"max_continuation", &p.max_continuation}};
-  const auto f = fields.find(key);
-  if (f == fields.end())
-    throw std::invalid_argument("--verification: unknown field " + key);
-  *f->second = v;
-}
-
-/** Sets \a t's field \a key (the names --tuning lists) to \a v; std::invalid_argument for
- * another name or a count that is not a whole number. The ranges are validate()'s. */
-void applyTuningOverride(pcl::icf::localization::LocalizerTuning& t, const std::string& key,
-                         double v) {
-  auto& h = t.hypotheses;
-  const auto count = [&](std::size_t& field) {
-    if (!(v >= 0.0 && v <= 1e7 && v == std::floor(v)))
-      throw std::invalid_argument("--tuning " + key + " must be a whole number in [0, 1e7]");
-    field = static_cast<std::size_t>(v);
-  };
-  const auto flag = [&](bool& field) {
-    if (v != 0.0 && v != 1.0)
-      throw std::invalid_argument("--tuning " + key + " must be 0 or 1");
-    field = v == 1.0;
-  };
-  if (key == "clusters")
-    flag(h.clusters);
-  else if (key == "point_pairs")
-    flag(h.point_pairs);
-  else if (key == "pp_spread")
-    h.voting.spread_margin = static_cast<float>(v);
-  else if (key == "pp_kept")
-    count(h.voting.kept);
-  else if (key == "pp_per_place")
-    count(h.voting.kept_per_place);
-  else if (key == "pp_references")
-    count(h.voting.max_references);
-  else if (key == "pp_rescored")
-    count(h.voting.rescored);
-  else if (key == "pp_reference_share")
-    h.voting.reference_share = static_cast<float>(v);
-  else if (key == "pp_peaks") {
-    std::size_t peaks = 0;
-    count(peaks);
-    h.voting.peaks_per_reference = static_cast<int>(std::min<std::size_t>(peaks, 1000));
-  } else if (key == "per_cluster")
-    count(h.per_cluster);
-  else if (key == "judged")
-    count(h.judged);
-  else if (key == "per_location")
-    count(h.per_location);
-  else if (key == "min_prescore")
-    h.min_prescore = v;
-  else if (key == "crop_margin")
-    h.crop_margin = static_cast<float>(v);
-  else if (key == "refine_points")
-    count(h.refine_points);
-  else
-    throw std::invalid_argument("--tuning: unknown field " + key);
+/** Sets \a p's registered field \a key (parameter_fields.h) to \a v; std::invalid_argument
+ * for another name or a value of the wrong kind. --icf's names are icfFields()'s,
+ * --verification's and --tuning's (and --icf's for icf-scene) localizerFields()'s. */
+template <typename Params>
+void applyOverride(const pcl::icf::FieldRegistry<Params>& registry, Params& p,
+                   const std::string& option, const std::string& key, double v) {
+  try {
+    pcl::icf::setFieldNumber(pcl::icf::findField(registry, key), p, v);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(option + " " + e.what());
+  }
 }
 
 /** \a o's --icf fields, threads and SacParams applied to \a p. */
 void applyIcfOptions(const Options& o, pcl::icf::IcfParams& p) {
   for (const auto& [key, value] : o.icf_fields)
-    applyIcfOverride(p, key, value);
+    applyOverride(pcl::icf::icfFields(), p, "--icf", key, value);
   p.threads = o.threads;
   p.sac = o.sac;
 }
@@ -440,11 +360,14 @@ pcl::icf::localization::LocalizerParams sceneParams(const Options& o) {
   if (o.exact_mesh)
     p.useExactMeshSettings();
   p.threads = o.threads;
-  applyIcfOptions(o, p.tuning().icf);
+  p.tuning().icf.sac = o.sac;
+  const auto& fields = pcl::icf::localization::localizerFields();
+  for (const auto& [key, value] : o.icf_fields)
+    applyOverride(fields, p, "--icf", key, value);
   for (const auto& [key, value] : o.verification_fields)
-    applyVerificationOverride(p.tuning().verification, key, value);
+    applyOverride(fields, p, "--verification", key, value);
   for (const auto& [key, value] : o.tuning_fields)
-    applyTuningOverride(p.tuning(), key, value);
+    applyOverride(fields, p, "--tuning", key, value);
   if (o.scene_min_confidence)
     p.min_confidence = *o.scene_min_confidence;
   return p;

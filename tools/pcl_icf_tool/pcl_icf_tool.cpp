@@ -22,6 +22,7 @@
 
 #include <pcl/console/print.h>
 #include <pcl/icf/io/mesh_io.h>
+#include <pcl/icf/localization/localizer_fields.h>
 
 #include <vtkObject.h>
 
@@ -106,6 +107,10 @@ int main(int argc, char** argv) {
   }
   if (options.help) {
     std::printf("%s", pcl_icf_tool::usageText(kProgram).c_str());
+    return 0;
+  }
+  if (options.list_fields) {
+    std::printf("%s", pcl::icf::describeFields(pcl::icf::localization::localizerFields()).c_str());
     return 0;
   }
   if (!options.verbose) {

@@ -4,6 +4,8 @@
  */
 #include "tool_options.h"
 
+#include <pcl/icf/localization/localizer_fields.h>
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -123,6 +125,24 @@ pcl::icf::SearchStrategy parseStrategy(const std::string& option, const std::str
     return pcl::icf::parseSearchStrategy(text);
   } catch (const std::invalid_argument&) {
     throw UsageError(option + ": '" + text + "' is not a strategy (fast or thesis)");
+  }
+}
+
+/** --set NAME=VALUE[,NAME=VALUE...]: registered fields (localizerFields(), the Python keywords'
+ * names) set from text. \throws UsageError naming the field. */
+void setRegisteredFields(const std::string& option, const std::string& text,
+                         pcl::icf::localization::LocalizerParams& p) {
+  for (const std::string& kv : pcl_icf_tools::splitComma(text)) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos)
+      throw UsageError(option + ": '" + kv + "' is not NAME=VALUE");
+    try {
+      const auto& field =
+          pcl::icf::findField(pcl::icf::localization::localizerFields(), kv.substr(0, eq));
+      pcl::icf::setFieldText(field, p, kv.substr(eq + 1));
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(option + ": " + e.what());
+    }
   }
 }
 
@@ -287,16 +307,23 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
   // --exact-mesh sets keep too; a --keep given anywhere wins.
   bool exact_mesh = false;
   std::optional<std::size_t> keep;
+  std::vector<std::string> sets;  // --set's, applied last: they win over --exact-mesh
   ArgumentReader args(argc, argv);
   while (!args.done()) {
     const std::string a = args.next();
     if (a == "-h" || a == "--help") {
       o.help = true;
       return o;
+    } else if (a == "--list-fields") {
+      args.noValue(a);
+      o.list_fields = true;
+      return o;
     } else if (parseLocalizerOption(a, args, p))
       continue;
     else if (a == "--keep")
       keep = static_cast<std::size_t>(parseInteger(a, args.value(a), 1, 10000));
+    else if (a == "--set")
+      sets.push_back(args.value(a));
     else if (a == "--exact-mesh") {
       args.noValue(a);
       exact_mesh = true;
@@ -379,6 +406,8 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
     p.useExactMeshSettings();
   if (keep)
     p.tuning().icf.global.keep = *keep;
+  for (const std::string& text : sets)
+    setRegisteredFields("--set", text, p);
   if (p.colour.expected && !(p.colour.weight >= 0.0))
     throw UsageError("--color-weight must be >= 0");
   try {
@@ -484,6 +513,9 @@ std::string usageText(const std::string& program) {
     << "    --max-instances N        = report up to N instances of the object, best first,\n"
     << "                               each scene point in one at most (default: "
     << p.max_instances << ")\n"
+    << "    --set NAME=V[,NAME=V...] = any registered field, by its Python keyword's name\n"
+    << "                               (calibration constants included; --list-fields)\n"
+    << "    --list-fields            = print every registered field: kind, range, default, doc\n"
     << "  Output:\n"
     << "    --json FILE              = the result as JSON (poses in the scene's units)\n"
     << "    --output FILE.ply        = the model moved to its pose, in the scene's units\n"

@@ -44,8 +44,9 @@ struct DepthPngOptions {
 /** \brief Everything pcl_icf_tool was asked to do. */
 struct ToolOptions {
   bool help = false;
-  std::string scene;  ///< SCENE (single mode)
-  std::string model;  ///< MODEL
+  bool list_fields = false;  ///< --list-fields: print the field registry
+  std::string scene;         ///< SCENE (single mode)
+  std::string model;         ///< MODEL
   /** --batch SCENES: a directory (every .pcd, .ply, .xyz, .asc in it, sorted) or a text file
    * listing scene paths (one a line, '#' comments, relative to the list's folder). */
   std::string batch;

@@ -144,7 +144,7 @@ TEST(FieldRegistry, NamesReachTheMembersTheySay) {
 
   TrackerParams t;
   pcl::icf::setFieldText(pcl::icf::findField(trackerFields(), "refine_max_points"), t, "321");
-  EXPECT_EQ(t.refinement.max_points, 321u);
+  EXPECT_EQ(t.tuning().refinement.max_points, 321u);
 }
 
 /** The message of what \a f throws, "" when it does not throw std::invalid_argument. */

@@ -166,7 +166,7 @@ TEST(ObjectTracker, ReacquiresNearItsLastPoseWithoutASearch) {
   params.localizer.threads = 1;
   pcl::icf::tracking::TrackerParams all_threads = params, without = params;
   all_threads.localizer.threads = 0;
-  without.reacquire_frames = 0;
+  without.tuning().reacquire_frames = 0;
   ObjectTracker one(params), all(all_threads), control(without);
   for (ObjectTracker* t : {&one, &all, &control}) {
     t->addObject(box_model, "Box5");
@@ -251,8 +251,8 @@ TEST(ObjectTracker, ReacquiresABoxPutBackMostlyHidden) {
   pcl::icf::tracking::TrackerParams params, before;
   params.localizer.threads = 0;
   before = params;
-  before.reacquire_shift = 0.f;
-  before.reacquire_full_evidence = 0.4;
+  before.tuning().reacquire_shift = 0.f;
+  before.tuning().reacquire_full_evidence = 0.4;
   ObjectTracker tracker(params), control(before);
   for (ObjectTracker* t : {&tracker, &control}) {
     t->addObject(box_model, "Box5");
@@ -295,16 +295,16 @@ TEST(ObjectTracker, RejectsBadParameters) {
   params.search_interval = 0;
   EXPECT_THROW(ObjectTracker{params}, std::invalid_argument);
   params.search_interval = 1;
-  params.reacquire_frames = -1;
+  params.tuning().reacquire_frames = -1;
   EXPECT_THROW(ObjectTracker{params}, std::invalid_argument);
-  params.reacquire_frames = 30;
-  params.reacquire_margin = -0.01f;
+  params.tuning().reacquire_frames = 30;
+  params.tuning().reacquire_margin = -0.01f;
   EXPECT_THROW(ObjectTracker{params}, std::invalid_argument);
-  params.reacquire_margin = 0.1f;
-  params.reacquire_shift = 1.5f;
+  params.tuning().reacquire_margin = 0.1f;
+  params.tuning().reacquire_shift = 1.5f;
   EXPECT_THROW(ObjectTracker{params}, std::invalid_argument);
-  params.reacquire_shift = 0.5f;
-  params.reacquire_full_evidence = 0.0;
+  params.tuning().reacquire_shift = 0.5f;
+  params.tuning().reacquire_full_evidence = 0.0;
   EXPECT_THROW(ObjectTracker{params}, std::invalid_argument);
   ObjectTracker tracker;
   EXPECT_THROW(tracker.addObject(nullptr, "none"), std::invalid_argument);

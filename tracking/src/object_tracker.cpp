@@ -75,9 +75,8 @@ std::string toString(TrackState state) {
   return "unknown";
 }
 
-void TrackerParams::validate() const {
-  const internal::ParameterCheck fail("tracking::TrackerParams");
-  localizer.validate();
+void TrackerTuning::validate() const {
+  const internal::ParameterCheck fail("tracking::TrackerTuning");
   refinement.validate();
   if (!(crop_margin >= 0.f) || !std::isfinite(crop_margin))
     fail("crop_margin", crop_margin, "must be finite and >= 0");
@@ -85,8 +84,6 @@ void TrackerParams::validate() const {
     fail("table_distance", table_distance, "must be finite and >= 0");
   if (!(velocity_gain >= 0.f && velocity_gain <= 1.f))
     fail("velocity_gain", velocity_gain, "must lie in [0, 1]");
-  if (search_interval < 1)
-    fail("search_interval", search_interval, "must be >= 1");
   if (!(reacquire_margin >= 0.f) || !std::isfinite(reacquire_margin))
     fail("reacquire_margin", reacquire_margin, "must be finite and >= 0");
   if (reacquire_frames < 0)
@@ -95,6 +92,14 @@ void TrackerParams::validate() const {
     fail("reacquire_shift", reacquire_shift, "must lie in [0, 1]");
   if (!(reacquire_full_evidence > 0.0 && reacquire_full_evidence <= 1.0))
     fail("reacquire_full_evidence", reacquire_full_evidence, "must lie in (0, 1]");
+}
+
+void TrackerParams::validate() const {
+  const internal::ParameterCheck fail("tracking::TrackerParams");
+  localizer.validate();
+  tuning_.validate();
+  if (search_interval < 1)
+    fail("search_interval", search_interval, "must be >= 1");
 }
 
 ObjectTracker::ObjectTracker(const TrackerParams& params) : params_(params) {
@@ -155,7 +160,7 @@ DepthImage ObjectTracker::depthImage(const FrameView& view, std::vector<bool>& t
     for (std::size_t i = 0; i < view.points.size(); ++i) {
       const Eigen::Vector3f& p = view.points[i];
       if (isUsablePoint(p) &&
-          std::abs(plane_->head<3>().dot(p) + (*plane_)[3]) < params_.table_distance) {
+          std::abs(plane_->head<3>().dot(p) + (*plane_)[3]) < params_.tuning().table_distance) {
         table[i] = true;
         background.push_back(static_cast<int>(i));
       }
@@ -173,21 +178,21 @@ bool ObjectTracker::refine(const FrameView& view, const DepthImage& image,
                            const std::vector<bool>& table, Object& object, ObjectTrack& out) const {
   const auto start = Clock::now();
   Eigen::Isometry3f predicted = *object.last;
-  if (params_.velocity_gain > 0.f && object.previous) {
+  if (params_.tuning().velocity_gain > 0.f && object.previous) {
     // The last motion of the model's box centre and its turn about it, times velocity_gain.
     const Eigen::Vector3f centre =
         0.5f * (object.model->mesh().boundsMin() + object.model->mesh().boundsMax());
     const Eigen::Vector3f c_last = *object.last * centre;
     const Eigen::Vector3f c_prev = *object.previous * centre;
     Eigen::AngleAxisf turn(object.last->linear() * object.previous->linear().transpose());
-    turn.angle() *= params_.velocity_gain;
+    turn.angle() *= params_.tuning().velocity_gain;
     predicted.linear() = turn.toRotationMatrix() * object.last->linear();
-    const Eigen::Vector3f c_pred = c_last + params_.velocity_gain * (c_last - c_prev);
+    const Eigen::Vector3f c_pred = c_last + params_.tuning().velocity_gain * (c_last - c_prev);
     predicted.translation() = c_pred - predicted.linear() * centre;
   }
   // The points near the prediction (its box grown by crop_margin).
-  const std::vector<Eigen::Vector3f> near =
-      pointsInGrownBox(view, table, nullptr, *object.model, predicted, params_.crop_margin);
+  const std::vector<Eigen::Vector3f> near = pointsInGrownBox(
+      view, table, nullptr, *object.model, predicted, params_.tuning().crop_margin);
   out.refined = true;
   out.refine_points = static_cast<int>(near.size());
   if (near.size() < 10) {
@@ -198,7 +203,7 @@ bool ObjectTracker::refine(const FrameView& view, const DepthImage& image,
   }
   // One thread: the objects are refined in parallel (track).
   const RefinementResult r =
-      refinePose(object.model->index(), near, predicted.inverse(), params_.refinement, 1);
+      refinePose(object.model->index(), near, predicted.inverse(), params_.tuning().refinement, 1);
   out.refine_iterations = r.iterations;
   out.refine_ms = msSince(start);
   const auto verify_start = Clock::now();
@@ -267,7 +272,7 @@ bool ObjectTracker::reacquire(const FrameView& view, const DepthImage& image,
   for (const int i : explained)
     skip[static_cast<std::size_t>(i)] = 1;
   const std::vector<Eigen::Vector3f> near = pointsInGrownBox(
-      view, table, &skip, *object.model, *object.last_seen, params_.reacquire_margin);
+      view, table, &skip, *object.model, *object.last_seen, params_.tuning().reacquire_margin);
   out.reacquire_points = static_cast<int>(near.size());
   if (near.size() < 10) {
     out.message =
@@ -288,17 +293,17 @@ bool ObjectTracker::reacquire(const FrameView& view, const DepthImage& image,
   const std::vector<Eigen::Isometry3f> starts =
       startsWithShifts(globalSearch(*object.model, near, Eigen::Vector3f::Zero(),
                                     lp.tuning().icf.global, lp.seed, threads),
-                       *object.model, params_.reacquire_shift);
+                       *object.model, params_.tuning().reacquire_shift);
   const int n = static_cast<int>(starts.size());
   DepthVerificationParams verification = lp.tuning().verification;
-  verification.full_evidence = params_.reacquire_full_evidence;
+  verification.full_evidence = params_.tuning().reacquire_full_evidence;
   std::vector<Eigen::Isometry3f> poses(starts.size());
   std::vector<DepthExplanation> explanations(starts.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (n > 1)
   for (int h = 0; h < n; ++h) {
     const std::size_t i = static_cast<std::size_t>(h);
     const RefinementResult r =
-        refinePose(object.model->index(), near, starts[i], params_.refinement, 1);
+        refinePose(object.model->index(), near, starts[i], params_.tuning().refinement, 1);
     poses[i] = r.scene_to_model.inverse(Eigen::Isometry);
     explanations[i] = explainDepth(*object.model, poses[i], marked, verification);
   }
@@ -434,7 +439,8 @@ TrackedFrame ObjectTracker::track(const pcl::PointCloud<PointT>& frame) {
     bool recovered = false;
     const internal::RecoveryPlan plan =
         refined ? internal::RecoveryPlan{}
-                : internal::planRecovery(before, params_.search_interval, params_.reacquire_frames);
+                : internal::planRecovery(before, params_.search_interval,
+                                         params_.tuning().reacquire_frames);
     if (plan.reacquire || plan.search) {
       const std::vector<int> explained = explainedByOthers(view, image, table, k, refined_ok);
       if (plan.reacquire) {

@@ -14,7 +14,7 @@ namespace {
 
 #define PCL_ICF_TRACKER(expr)      \
   [](TrackerParams & p) -> auto& { \
-    return p.expr;                 \
+    return p.tuning().expr;        \
   }
 
 FieldRegistry<TrackerParams> makeTrackerFields() {
@@ -28,9 +28,9 @@ FieldRegistry<TrackerParams> makeTrackerFields() {
                      PCL_ICF_TRACKER(table_distance)),
       numberField<P>("velocity_gain", 0, 1, "share of the last motion the prediction repeats",
                      PCL_ICF_TRACKER(velocity_gain)),
-      numberField<P>("search_interval", 1, 1e6,
-                     "frames between two searches for an object not found",
-                     PCL_ICF_TRACKER(search_interval), false),
+      numberField<P>(
+          "search_interval", 1, 1e6, "frames between two searches for an object not found",
+          [](TrackerParams & p) -> auto& { return p.search_interval; }, false),
       numberField<P>("reacquire_margin", 0, inf,
                      "a lost object is first searched within this of its last pose",
                      PCL_ICF_TRACKER(reacquire_margin)),

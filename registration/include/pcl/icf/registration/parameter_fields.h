@@ -25,11 +25,8 @@ enum class FieldKind {
   Choice,  ///< one of choices, by name
 };
 
-/** \brief One settable field of \a Params. Numbers are read and written as doubles (a count
- * up to 2^53 exactly); a Choice by its name. Cross-field rules (max_residual above
- * fit_residual, ...) stay with Params::validate(), called on the whole struct after setting. */
-template <typename Params>
-struct ParameterField {
+/** \brief What a settable field is, whatever struct holds it: its name, kind, range and doc. */
+struct FieldDescription {
   std::string name;
   FieldKind kind = FieldKind::Real;
   double min = 0.0, max = 0.0;       ///< Count, Real
@@ -37,6 +34,13 @@ struct ParameterField {
   bool single = false;               ///< the member is a float: its text is a float's
   bool tuning = false;               ///< a calibration constant, not a user's knob
   std::string doc;                   ///< one line
+};
+
+/** \brief One settable field of \a Params. Numbers are read and written as doubles (a count
+ * up to 2^53 exactly); a Choice by its name. Cross-field rules (max_residual above
+ * fit_residual, ...) stay with Params::validate(), called on the whole struct after setting. */
+template <typename Params>
+struct ParameterField : FieldDescription {
   std::function<void(Params&, double)> set_number;
   std::function<double(const Params&)> get_number;
   std::function<void(Params&, const std::string&)> set_choice;

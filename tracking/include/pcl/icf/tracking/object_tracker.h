@@ -45,8 +45,9 @@ enum class TrackState {
 /** "searching", "found", "tracking", "lost", "re-found". */
 std::string toString(TrackState state);
 
-/** \brief Parameters of ObjectTracker. Lengths in metres (the scene's units). */
-struct TrackerParams {
+/** \brief The tracker's calibration constants (doc/TUNING.md), reached through
+ * TrackerParams::tuning(): a user leaves them as they are. Lengths in metres. */
+struct TrackerTuning {
   /** RefinementParams' defaults, at most 800 points per iteration (an evenly strided subset:
    * a real 640 x 480 frame holds 17-25k points of a box at 0.6 m; 800 keep ycbv-video0000's
    * gelatin box within 0.5 mm of the ground truth, as 1500 and all of them do, in 5 ms
@@ -57,9 +58,6 @@ struct TrackerParams {
     return r;
   }
 
-  /** The search (first frame, after a loss) and the verification: its verification,
-   * min_confidence, camera_pose, intrinsics and threads are used by the tracking step too. */
-  localization::LocalizerParams localizer;
   /** The per-frame refinement from the predicted pose. Its first Tukey radius bounds how far
    * the object may move beyond the constant-velocity prediction between two frames. */
   RefinementParams refinement = defaultRefinement();
@@ -76,9 +74,6 @@ struct TrackerParams {
    * frame by frame; 0.5 lags a steady motion by half a frame's move, well within the
    * refinement's first radius. */
   float velocity_gain = 0.5f;
-  /** A lost object is searched in every n-th frame only (1: every frame): the search costs
-   * 10-100x a refinement, this bounds its share of the stream's time. */
-  int search_interval = 1;
   /** Re-acquisition: an object whose refinement failed, or lost for at most reacquire_frames
    * frames, is first searched on the points within the model's bounding box at its last
    * accepted pose grown by reacquire_margin on every side, leaving out the table and the
@@ -107,7 +102,29 @@ struct TrackerParams {
   double reacquire_full_evidence = 0.35;
 
   /** \throws std::invalid_argument naming the field and value. */
+
+  /** \throws std::invalid_argument naming the field. */
   void validate() const;
+};
+
+/** \brief Parameters of ObjectTracker: its localizer's (the search and the verification) and
+ * how often a lost object is searched; the rest is tuning(). Lengths in metres. */
+struct TrackerParams {
+  /** The search (first frame, after a loss) and the verification: its tuning().verification,
+   * min_confidence, camera_pose, intrinsics and threads are used by the tracking step too. */
+  localization::LocalizerParams localizer;
+  /** A lost object is searched in every n-th frame only (1: every frame): the search costs
+   * 10-100x a refinement, this bounds its share of the stream's time. */
+  int search_interval = 1;
+
+  TrackerTuning& tuning() { return tuning_; }
+  const TrackerTuning& tuning() const { return tuning_; }
+
+  /** \throws std::invalid_argument naming the field. */
+  void validate() const;
+
+ private:
+  TrackerTuning tuning_;
 };
 
 /** \brief One object after one frame. */

@@ -176,14 +176,7 @@ FieldRegistry<Outer> liftFields(const FieldRegistry<Inner>& registry, Access acc
   FieldRegistry<Outer> out;
   for (const auto& in : registry) {
     ParameterField<Outer> f;
-    f.name = in.name;
-    f.kind = in.kind;
-    f.min = in.min;
-    f.max = in.max;
-    f.choices = in.choices;
-    f.single = in.single;
-    f.tuning = in.tuning;
-    f.doc = in.doc;
+    static_cast<FieldDescription&>(f) = in;
     if (in.set_number) {
       f.set_number = [set = in.set_number, access](Outer& o, double v) { set(access(o), v); };
       f.get_number = [get = in.get_number, access](const Outer& o) {

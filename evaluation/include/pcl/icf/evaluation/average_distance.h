@@ -7,7 +7,7 @@
 /** \file
  * \brief The average distance pose errors beside BOP's: ADD and ADD-S (Hinterstoisser et al.,
  * ACCV 2012; the BOP toolkit's pose_error.add and adi), and ADD-S to the model's surface, the
- * one pcl_icf's suites score with (doc/BENCHMARKS.md, "the project's rule"). A pose maps model
+ * one pcl_icf's suites score with (doc/DATASETS.md, the scoring rule). A pose maps model
  * coordinates to camera coordinates; lengths in any one unit, the errors come out in it. */
 
 #include <pcl/icf/registration/icf_model.h>

@@ -43,8 +43,8 @@ struct DistanceFieldParams {
  * the closest point is an affine function of p, so the interpolation is exact there and the
  * distance keeps its true kink at the surface (an unsigned distance grid rounds it off: about
  * 1.35 mm at 2.7 mm cells). The error is confined to cells that straddle an edge or a medial
- * axis; test/registration/distance_field_test.cpp measures it against the exact distance and
- * doc/BENCHMARKS.md reports it (bound: errorBound()).
+ * axis; test/registration/distance_field_test.cpp measures it against the exact distance
+ * (bound: errorBound()).
  *
  * Immutable after construction; lookups are const and thread-safe. Does not keep a reference
  * to the mesh or the index. */
@@ -80,9 +80,9 @@ class ClosestPointField {
   const Eigen::Vector3f& origin() const { return origin_; }
   const Eigen::Vector3i& dimensions() const { return dims_; }
   std::size_t nodeCount() const { return static_cast<std::size_t>(dims_.prod()); }
-  /** \brief Documented bound on |distance(p) - exact(p)| for p inside the grid: one cell.
-   * Measured (test/registration/distance_field_test.cpp, doc/BENCHMARKS.md): 0 to rounding
-   * above flat patches, and the largest errors, in medial-axis cells, stay below it. */
+  /** \brief Bound on |distance(p) - exact(p)| for p inside the grid: one cell. The error is 0
+   * to rounding above flat patches; the largest errors, in medial-axis cells, stay below it
+   * (test/registration/distance_field_test.cpp). */
   float errorBound() const { return cell_; }
   /** \brief Share of cells that straddle a medial axis (answered by trilinear distance). */
   double medialCellRatio() const;

@@ -93,8 +93,7 @@ struct AcceptanceParams {
    * the measured depth lies behind it (PoseQuality::seen_through) must be at most this. A
    * partial view fitted onto the wrong side of a model can cover its points well (inliers,
    * rmse, coverage) while the model hides other points of the view behind it. 1 turns the
-   * check off. Calibrated on every bench suite (doc/experiments/2026-11-27-seen-through.md, "Seen
-   * through"). */
+   * check off (calibration: doc/TUNING.md, "The depth verification"). */
   double max_seen_through = 0.05;
   /** Tolerances of that check (depth_verification.h: the sensor's noise at each depth and the
    * model's size). */
@@ -119,15 +118,13 @@ struct IcfParams {
   /** With the caller's worth_refining check (estimatePose), the candidates are first checked
    * as the global search left them: when it refuses every one, none is refined with exact
    * faces and the search's best is the start as it is (which the same check then refuses:
-   * the cluster's search ends). Most clusters of a real scene are other objects, and their
-   * candidates' exact refinement was a quarter of a frame's time
-   * (doc/experiments/2026-11-28-real-frame-budget-and-time-bars.md, "A budget per frame"). false:
-   * the candidates are always refined. */
+   * the cluster's search ends). Most clusters of a real scene are other objects, whose exact
+   * refinement this saves. false: the candidates are always refined. */
   bool check_candidates = true;
   /** Without a guess, the final refinement first runs on at most this many points (an evenly
    * strided subset) through the whole Tukey schedule, then on refinement.max_points from the
-   * smallest radius (coarse to fine: a real cluster of 20-40k points costs 30 full-resolution
-   * iterations otherwise; doc/experiments/2026-11-27-real-frame-time.md, "Where the time goes"). 0:
+   * smallest radius (coarse to fine: a real cluster of 20-40k points would cost 30
+   * full-resolution iterations otherwise). 0:
    * one refinement at full resolution. With a guess the refinement is ICP's: one stage, as
    * configured. */
   std::size_t coarse_points = 3000;

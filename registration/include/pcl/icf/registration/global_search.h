@@ -40,10 +40,7 @@ struct GlobalSearchParams {
   /** Coarse pass as a cascade: every (rotation, anchor) is first scored on the first
    * prescreen_points of its subsample (itself a random subset), and only the best
    * prescreen_share of them (at least 20 x keep) on the whole subsample. 0 for either: every
-   * hypothesis on the whole subsample. Calibrated (doc/experiments/2026-11-27-real-frame-time.md,
-   * "Where the time goes"): at 64 points and a tenth, the same decision (found or not, and the same
-   * pose within 1 mm) as the full pass on all 160 identification cases (synthetic and real, target
-   * present and absent), at 0.6-0.8x of the time; 0.05 to 0.3 keep every synthetic target too. */
+   * hypothesis on the whole subsample (calibration: doc/TUNING.md, "The global search"). */
   std::size_t prescreen_points = 64;
   float prescreen_share = 0.1f;
   /** Hypotheses kept after the coarse pass and refined on the field. */
@@ -57,10 +54,7 @@ struct GlobalSearchParams {
    * within distinct_surface x the model's radius of its surface. A symmetric model's turns
    * about its axis (a can spun) are then one hypothesis instead of filling the keep slots with
    * copies of one pose while the right one is left out (0: off). 0.2 is distinct_rotation's
-   * bound: a turn of 0.2 rad moves no model point more than 0.2 radii. Calibrated on the
-   * clutter suite and the real frames
-   * (doc/experiments/2026-11-29-clutter-hypotheses-exact-mesh-foam-brick.md, "Hypotheses that are
-   * one pose"). */
+   * bound: a turn of 0.2 rad moves no model point more than 0.2 radii. */
   float distinct_surface = 0.2f;
   /** The cheap refinement of each kept hypothesis on the field. */
   RefinementParams field_refinement = defaultFieldRefinement();

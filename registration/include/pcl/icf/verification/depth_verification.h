@@ -58,48 +58,33 @@ struct DepthVerificationParams {
    * behind them but are not judged: a depth camera returns little there. */
   float min_view_cosine = 0.25f;
   /** A right pose conflicts with the depth almost nowhere; the confidence falls linearly with
-   * the conflicting share, 1 - visible_support, and reaches 0 at this share. Calibrated
-   * (doc/BENCHMARKS.md, "Identification"): right poses conflict on at most 0.5% of their
-   * pixels on the real frames, 0.1% on the synthetic ones; a cylinder posed on a shorter one,
-   * sunk into the table, on 3-5%. */
+   * the conflicting share, 1 - visible_support, and reaches 0 at this share (calibration:
+   * doc/TUNING.md, "The depth verification"). */
   double max_conflict = 0.1;
-  /** The confidence falls linearly with silhouette_continuation and reaches 0 at this share.
-   * Calibrated like max_conflict: right poses 0-0.01, a model posed on part of a bigger
-   * look-alike 0.05-0.3. */
+  /** The confidence falls linearly with silhouette_continuation (a model posed on part of a
+   * bigger look-alike: the look-alike's surface goes on beyond the silhouette) and reaches 0
+   * at this share. */
   double max_continuation = 0.2;
   /** Share of the model's rendered pixels that must be supported for full evidence; fewer
    * lower the confidence in proportion (a target 20% visible at 0.4 keeps half of it), so a
-   * pose is accepted (min_confidence 0.875) only with 35% of its pixels supported. Calibrated
-   * (doc/experiments/2026-11-28-confidence-residual-and-evidence.md, "How much of a target must be
-   * seen"): from 0.5 to 0.4 the cluttered desks gain 7 right poses of 100 (mostly targets 30-50%
-   * visible) for 1 wrong one and no false pose on the absent twins, and no decision of the 160
-   * identification cases changes; at 0.3 the false poses rise (14 -> 16 of 100). */
+   * pose is accepted (min_confidence 0.875) only with 35% of its pixels supported. */
   double full_evidence = 0.4;
-  /** A right pose fits the measured depth about as closely as the sensor measures: its
-   * DepthExplanation::residual (RMS offset in units of sigma(z)) is 0.57-0.86 on the simulated
-   * Kinect scans and 1.25-1.47 on the real YCB-Video frames (the mesh's error and the sensor's
-   * own distortion). A model laid on an object of another size or shape (a 5 cm can posed on
-   * a 4.5 cm one) lies inside the support tolerance but 2-3 sigma off it. Up to fit_residual
-   * the confidence does not depend on the residual; beyond, it falls linearly and reaches 0
-   * at max_residual (infinity: off). Calibrated on 360 cases
-   * (doc/experiments/2026-11-28-confidence-residual-and-evidence.md, "How closely a pose
-   * fits"; 1.75 then), lowered to 1.5 with a search that found closer look-alikes
-   * ("Hypotheses that are one pose"): a gelatin box posed on another box in a real frame
-   * without it, residual 1.83, confidence 0.93, is refused at 1.5 and 1.6; no right pose is
-   * lost, and 1.25 loses a real right pose. */
+  /** A right pose fits the measured depth about as closely as the sensor measures, a model
+   * laid on an object of another size or shape (a 5 cm can posed on a 4.5 cm one) inside the
+   * support tolerance but 2-3 sigma off it. Up to fit_residual (DepthExplanation::residual,
+   * the RMS offset in units of sigma(z)) the confidence does not depend on the residual;
+   * beyond, it falls linearly and reaches 0 at max_residual (infinity: off). The defaults
+   * are for scanned meshes, which fit real depth less closely than the sensor measures
+   * (doc/TUNING.md, "The depth verification"). */
   double fit_residual = 1.5;
   double max_residual = 3.5;
 
   /** The limits for a mesh that is the object itself (a CAD model of a manufactured part, a
-   * synthetic suite's meshes): a right pose then fits as closely as the sensor measures
-   * (residual 0.57-0.85 on every synthetic suite), and a look-alike a few millimetres off
-   * (a can standing on a box posed as a taller can, a hexagonal prism posed on a cylinder:
-   * 0.9-1.3) does not. fit_residual kExactMeshFit (0.8), max_residual twice that; everything
-   * else as the defaults, which are for scanned meshes (YCB's, 1-3 mm off the object: right
-   * poses up to 1.47). Calibrated on the clutter suite and the synthetic table tops
-   * (doc/experiments/2026-11-29-clutter-hypotheses-exact-mesh-foam-brick.md, "An exact mesh fits
-   * closer": 0.7 refuses right poses, 0.9 keeps 6 look-alikes of 100); on a scanned mesh these
-   * limits refuse right poses. */
+   * synthetic suite's meshes): a right pose then fits as closely as the sensor measures and a
+   * look-alike a few millimetres off (a can standing on a box posed as a taller can) does
+   * not. fit_residual kExactMeshFit, max_residual twice that; everything else as the
+   * defaults. On a scanned mesh these limits refuse right poses (doc/TUNING.md, "The depth
+   * verification"). */
   static DepthVerificationParams forExactMesh();
   static constexpr double kExactMeshFit = 0.8;
 
@@ -239,7 +224,7 @@ std::string describeRefusal(const DepthExplanation& explanation, double min_conf
  * their pixel in \a image is covered by the rendered model and their depth lies on its surface
  * within the verification's support tolerance (noise_sigmas x sigma(z) + size_tolerance x
  * diameter, along the surface normal), as explainDepth judges a pixel "supported". A caller
- * that has accepted this pose marks them as background (DepthImage::markBackground) before
+ * that has accepted this pose marks them explained (DepthImage::markExplained) before
  * verifying another object beside it: a touching neighbour's surface is then explained, and
  * stops silhouette continuation as the table does. Ascending. */
 std::vector<int> pointsExplainedBy(const IcfModel& model, const Eigen::Isometry3f& model_to_camera,

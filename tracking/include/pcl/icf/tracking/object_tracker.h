@@ -79,14 +79,13 @@ struct TrackerTuning {
    * accepted pose grown by reacquire_margin on every side, leaving out the table and the
    * points the other objects' poses explain (the global search without a guess, each
    * hypothesis refined and verified as a tracked pose is, accepted at min_confidence). Only
-   * when that fails is the whole scene searched. On 25 generated sequences it costs 57 ms
-   * median (90th percentile 155 ms) against 230-370 ms for a search (doc/BENCHMARKS.md,
-   * Tracking). The margin bounds how far the object may have moved while
+   * when that fails is the whole scene searched: a crop costs a fraction of a whole-scene
+   * search. The margin bounds how far the object may have moved while
    * lost: 0.1 m is 3 mm a frame for a second at 30 Hz, or a hand's move of a few
    * centimetres and back. */
   float reacquire_margin = 0.1f;
   /** Frames after a loss during which re-acquisition is tried (0: never; then a failed
-   * refinement goes straight to the search, as before). */
+   * refinement goes straight to the search). */
   int reacquire_frames = 30;
   /** Re-acquisition also starts the refinement from each hypothesis moved by +-reacquire_shift
    * x the model's bounding-box extent along each box axis (0: the hypotheses alone): an object
@@ -95,10 +94,7 @@ struct TrackerTuning {
   float reacquire_shift = 0.5f;
   /** The share of a re-acquired pose's rendered pixels that must be supported for full
    * evidence (DepthVerificationParams::full_evidence; 0.4 for a search without a prior): the
-   * object was seen there moments ago. Calibrated on 25 generated sequences
-   * (doc/experiments/2026-11-29-tracking-reacquisition-hidden.md, "Re-acquisition of a mostly
-   * hidden object"): 0.4 re-finds a box put back 28% visible after 6 frames, 0.35 after 4, 0.3
-   * after 3 but with a pose 7 mm / 5.7 degrees off elsewhere; no value poses an absent object. */
+   * object was seen there moments ago (calibration: doc/TUNING.md, "The tracker"). */
   double reacquire_full_evidence = 0.35;
 
   /** \throws std::invalid_argument naming the field and value. */

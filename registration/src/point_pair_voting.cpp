@@ -80,6 +80,8 @@ void PointPairVotingParams::validate() const {
     fail("reference_share", reference_share, "must lie in (0, 1]");
   if (max_references < 1)
     fail("max_references", max_references, "must be >= 1");
+  if (!(max_pairs_discs >= 1.f))
+    fail("max_pairs_discs", max_pairs_discs, "must be >= 1 (discs of the model's diameter)");
   if (!(spread_margin >= 0.f && spread_margin <= 0.5f))
     fail("spread_margin", spread_margin, "must lie in [0, 0.5] (a share of a bin)");
   if (peaks_per_reference < 1 || peaks_per_reference > 16)
@@ -321,6 +323,16 @@ std::vector<int> onePerCell(const std::vector<Eigen::Vector3f>& points,
   for (const auto& [key, i] : cells)
     kept.push_back(i);
   return kept;
+}
+
+/** At most \a cap of \a items, evenly strided from the first (which stays); order kept. */
+void keepEvenlyStrided(std::vector<int>& items, std::size_t cap) {
+  if (items.size() <= cap)
+    return;
+  const double stride = static_cast<double>(items.size()) / static_cast<double>(cap);
+  for (std::size_t k = 0; k < cap; ++k)
+    items[k] = items[static_cast<std::size_t>(std::floor(static_cast<double>(k) * stride))];
+  items.resize(cap);
 }
 
 /** Points a normal is fitted to per search radius: the search surface is the eligible points
@@ -650,6 +662,9 @@ std::vector<VotedPose> voteForPoses(const IcfModel& model, const PointPairScene&
     references.push_back(
         std::min(scene.points.size() - 1, static_cast<std::size_t>(std::floor(k * stride))));
 
+  const auto bins = static_cast<double>(table.distanceBins());
+  const auto max_pairs = static_cast<std::size_t>(
+      std::ceil(static_cast<double>(params.max_pairs_discs) * M_PI * bins * bins));
   // Each reference votes into its own slot: the result does not depend on the thread count.
   std::vector<std::vector<Vote>> per_reference(references.size());
   const int n = static_cast<int>(references.size());
@@ -662,6 +677,7 @@ std::vector<VotedPose> voteForPoses(const IcfModel& model, const PointPairScene&
     for (int k = 0; k < n; ++k) {
       const std::size_t r = references[static_cast<std::size_t>(k)];
       tree.radiusSearch((*cloud)[r], table.diameter(), neighbours, distances);
+      keepEvenlyStrided(neighbours, max_pairs);
       voter.vote(scene, r, neighbours, per_reference[static_cast<std::size_t>(k)]);
     }
   }

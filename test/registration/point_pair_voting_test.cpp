@@ -199,7 +199,8 @@ TEST(VoteForPoses, FindsABoxAmongOtherObjects) {
   }
 }
 
-// The subsample's normals face the camera, and the box alone is found first.
+// The subsample's normals face the camera, the box alone is found first, and the pair cap
+// leaves a view alone.
 TEST(VoteForPoses, FindsABoxAloneFirst) {
   const synthetic::SyntheticModel box = synthetic::thesisModel("Box5");
   const IcfModel::ConstPtr model = IcfModel::build(box.mesh);
@@ -220,6 +221,18 @@ TEST(VoteForPoses, FindsABoxAloneFirst) {
                                                       objects[0].pose, box.symmetry);
   EXPECT_LT(e.translation, 2 * model->pointPairs().step());
   EXPECT_LT(e.rotation_deg, 15.0);
+
+  // A camera's view of a surface holds fewer points within the model's diameter than one flat
+  // disc of it on the voting grid: the pair cap at its smallest (one disc) leaves the votes
+  // exactly as without a cap (a million discs).
+  PointPairVotingParams one_disc, uncapped;
+  one_disc.max_pairs_discs = 1.f;
+  uncapped.max_pairs_discs = 1e6f;
+  const std::vector<VotedPose> capped = voteForPoses(*model, scene, one_disc);
+  const std::vector<VotedPose> free = voteForPoses(*model, scene, uncapped);
+  ASSERT_EQ(capped.size(), free.size());
+  for (std::size_t k = 0; k < free.size(); ++k)
+    EXPECT_TRUE(capped[k].model_to_camera.isApprox(free[k].model_to_camera, 0.f)) << k;
 }
 
 TEST(PointPairParams, RejectsOutOfRangeFields) {
@@ -231,6 +244,9 @@ TEST(PointPairParams, RejectsOutOfRangeFields) {
   EXPECT_THROW(v.validate(), std::invalid_argument);
   v = {};
   v.kept = 0;
+  EXPECT_THROW(v.validate(), std::invalid_argument);
+  v = {};
+  v.max_pairs_discs = 0.5f;  // less than one disc would thin out a camera's view
   EXPECT_THROW(v.validate(), std::invalid_argument);
 }
 

@@ -149,6 +149,11 @@ struct PointPairVotingParams {
   float reference_share = 0.2f;
   /** At most this many references (strided further over the whole frame). */
   std::size_t max_references = 300;
+  /** A reference pairs with at most this many times the points a flat disc of the model's
+   * diameter holds on the voting grid (pi x distance bins squared); beyond it an evenly
+   * strided subset of its neighbours, nearest first. A camera sees a surface, a layer or two
+   * deep within the diameter; only a volume full of points (no view of anything) reaches it. */
+  float max_pairs_discs = 4.f;
   /** A feature coordinate within this share of a bin from its border also looks up the
    * neighbouring bin across it, so that noise across the border does not lose the vote
    * (Hinterstoisser et al. spread to every neighbour: 0.5, 16 bins a pair; 0: none). */

@@ -310,6 +310,14 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr renderCluster(const pcl::PolygonMesh& mesh,
   return cluster;
 }
 
+std::vector<Eigen::Vector3f> scanPoints(const Scan& scan) {
+  std::vector<Eigen::Vector3f> points;
+  points.reserve(scan.cloud->size());
+  for (const auto& p : *scan.cloud)
+    points.emplace_back(p.x, p.y, p.z);
+  return points;
+}
+
 pcl::PointCloud<pcl::PointXYZ>::Ptr extractLabelCloud(const Scan& scan, int label) {
   pcl::PointCloud<pcl::PointXYZ>::Ptr cluster(new pcl::PointCloud<pcl::PointXYZ>);
   for (std::size_t index = 0; index < scan.labels.size(); ++index) {

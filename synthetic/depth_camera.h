@@ -107,6 +107,9 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr renderCluster(const pcl::PolygonMesh& mesh,
                                                   const CameraIntrinsics& intrinsics,
                                                   const ScanNoise& noise);
 
+/** \brief The scan's cloud as points, one per pixel, row-major (NaN where nothing was hit). */
+std::vector<Eigen::Vector3f> scanPoints(const Scan& scan);
+
 /** \brief The points of a scan whose pixel label equals label, as an unorganized dense cloud. */
 pcl::PointCloud<pcl::PointXYZ>::Ptr extractLabelCloud(const Scan& scan, int label);
 

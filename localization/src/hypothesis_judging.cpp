@@ -96,7 +96,7 @@ void resolveTurns(ClusterLocalization& c, const SceneView& view, const DepthImag
                   const IcfModel& model, const PrincipalAxes& axes, const LocalizerParams& params) {
   const std::vector<Eigen::Vector3f> points = usablePoints(view, c.indices);
   const PoseAlternativeParams& ap = params.tuning().alternatives;
-  const TurnChecks checks{params.tuning().icf.refinement, params.tuning().verification};
+  const TurnChecks checks{params.tuning().icf.refinement, params.verificationParams()};
   const Eigen::Isometry3f found(c.icf.object_pose);
   std::vector<PoseAlternative> candidates =
       turnedAlternatives(model, axes, points, found, c.verification, image, ap, checks);
@@ -130,7 +130,7 @@ void resolveTurns(ClusterLocalization& c, const SceneView& view, const DepthImag
     c.verification = winner.verification;
     c.score = c.verification.confidence * colour_factor;
     c.explained =
-        explainedPoints(view, c.indices, model, scene_to_model, params.tuning().verification);
+        explainedPoints(view, c.indices, model, scene_to_model, params.verificationParams());
     c.turned = true;
   }
   c.alternatives.clear();
@@ -147,7 +147,7 @@ void resolveTurns(ClusterLocalization& c, const SceneView& view, const DepthImag
 std::string rejection(const ClusterLocalization& c, const LocalizerParams& params) {
   std::string reason;
   if (c.verification.confidence < params.min_confidence)
-    reason = describeRefusal(c.verification, params.min_confidence, params.tuning().verification);
+    reason = describeRefusal(c.verification, params.min_confidence, params.verificationParams());
   if (!c.gate_passed) {
     std::ostringstream gate;
     gate << (reason.empty() ? "" : " ") << "thesis gate (" << c.gate_far_points << " points beyond "
@@ -173,7 +173,7 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
   // objects are not its far points), not by estimatePose to the whole crop.
   icf.acceptance.gate.enabled = false;
   // One verification: the seen-through check judges the depth with the same tolerances.
-  icf.acceptance.depth = params.tuning().verification;
+  icf.acceptance.depth = params.verificationParams();
   // A hypothesis is refined from its pose, on a strided subset of the points near it.
   if (start) {
     const SceneHypotheses& hp = params.tuning().hypotheses;
@@ -190,7 +190,7 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
   if (refine_at > 0.0)
     options.worth_refining = [&, refine_at](const Eigen::Isometry3f& scene_to_model) {
       return explainDepth(model, scene_to_model.inverse(Eigen::Isometry), image,
-                          params.tuning().verification)
+                          params.verificationParams())
                  .confidence >= refine_at;
     };
   c.icf = estimatePose(model, points, kCameraAtOrigin, icf, options);
@@ -200,10 +200,9 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
   }
   const Eigen::Isometry3f model_to_camera(c.icf.object_pose);
   const ModelDepth rendered = renderModelDepth(model, model_to_camera, image.intrinsics());
-  c.verification =
-      explainDepth(rendered, image, 2.f * model.radius(), params.tuning().verification);
+  c.verification = explainDepth(rendered, image, 2.f * model.radius(), params.verificationParams());
   c.explained = explainedPoints(view, indices, model, Eigen::Isometry3f(c.icf.scene_to_model),
-                                params.tuning().verification);
+                                params.verificationParams());
   const FarPointGate& gate = params.tuning().icf.acceptance.gate;
   if (gate.enabled) {
     c.gate_far_points = gateFarPoints(points, model, Eigen::Isometry3f(c.icf.scene_to_model),

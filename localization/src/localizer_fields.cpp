@@ -48,6 +48,10 @@ FieldRegistry<LocalizerParams> ownFields() {
                      PCL_ICF_OWN(colour.weight), false),
       numberField<P>("min_confidence", 0, 1, "a pose is accepted at this confidence",
                      PCL_ICF_OWN(min_confidence), false),
+      numberField<P>("mesh_accuracy", 0, 0.05,
+                     "how far the mesh's surface may lie from the object's, metres (CAD 0, "
+                     "scanned 0.001-0.002)",
+                     PCL_ICF_OWN(mesh_accuracy), false),
   };
   // The registration's strategy, fallback, seed and threads are the localizer's own.
   f.push_back(choiceField<P>("strategy", {"fast", "thesis"}, findField(icfFields(), "strategy").doc,
@@ -87,6 +91,15 @@ FieldRegistry<LocalizerParams> tuningFields() {
       numberField<P>("full_evidence", 0, 1,
                      "share of the visible model the depth must support for full confidence",
                      PCL_ICF_TUNING(verification.full_evidence)),
+      numberField<P>("edge_offset_pixels", 0, inf,
+                     "the scene's edges may lie this far from the model's silhouette, pixels",
+                     PCL_ICF_TUNING(verification.edge_offset_pixels)),
+      numberField<P>("min_edge_pixels", 0, kMaxCount,
+                     "silhouette pixels whose edge was found the offset needs",
+                     PCL_ICF_TUNING(verification.min_edge_pixels)),
+      numberField<P>("sink_tolerances", 0, inf,
+                     "how deep a model may sink into its support, in support tolerances",
+                     PCL_ICF_TUNING(verification.sink_tolerances)),
       numberField<P>("max_conflict", 0, 1, "largest share of the model seen through",
                      PCL_ICF_TUNING(verification.max_conflict)),
       numberField<P>("max_continuation", 0, 1,

@@ -61,6 +61,12 @@ IcfParams LocalizerTuning::defaultIcf() {
   return icf;
 }
 
+DepthVerificationParams LocalizerParams::verificationParams() const {
+  DepthVerificationParams verification = tuning_.verification;
+  verification.mesh_accuracy = mesh_accuracy;
+  return verification;
+}
+
 IcfParams LocalizerParams::icfParams() const {
   IcfParams icf = tuning_.icf;
   icf.strategy = strategy;
@@ -104,6 +110,8 @@ void LocalizerParams::validate() const {
     fail("threads", threads, "must lie in [0, 1024] (0 = all cores)");
   if (max_instances < 1 || max_instances > 1000)
     fail("max_instances", max_instances, "must lie in [1, 1000]");
+  if (!(mesh_accuracy >= 0.f && mesh_accuracy <= 0.05f))
+    fail("mesh_accuracy", mesh_accuracy, "must lie in [0, 0.05] metres");
   if (camera_pose)
     validateRigidTransform(camera_pose->matrix().cast<double>(),
                            "[pcl::icf::localization::LocalizerParams::validate] camera_pose");
@@ -153,6 +161,8 @@ void toSceneFrame(Localization& loc, const Eigen::Isometry3f& camera_to_scene) {
     const Eigen::Vector3f n = camera_to_scene.linear() * plane.head<3>();
     plane = Eigen::Vector4f(n.x(), n.y(), n.z(), plane[3] - n.dot(camera_to_scene.translation()));
   }
+  for (auto& vertex : loc.segmentation.hull)
+    vertex = camera_to_scene * vertex;
   loc.camera_pose = camera_to_scene;
 }
 
@@ -230,8 +240,8 @@ std::string searchRound(const SceneView& view, const std::vector<pcl::PointIndic
   const std::size_t judged =
       std::max(hp.judged, 2 * static_cast<std::size_t>(params.max_instances));
   const std::vector<RankedHypothesis> ranked =
-      rankCandidates(view, usable, model, image, params.tuning().verification, scene, candidates,
-                     hp, judged, threads);
+      rankCandidates(view, usable, model, image, params.verificationParams(), scene, candidates, hp,
+                     judged, threads);
   out.ranking_ms += msSince(stage);
   stage = Clock::now();
   std::vector<ClusterLocalization> found =
@@ -296,7 +306,7 @@ ObjectsLocalization localizeObjectsInView(const SceneView& view,
   // What the camera saw, the table marked as background (an object standing on it would
   // otherwise seem to carry on into the table at its base).
   // (Without segmentation the plane has no inliers: nothing is background.)
-  DepthImage image = sceneDepthImage(view, segmentation.plane.inliers, params);
+  DepthImage image = sceneDepthImage(view, segmentation, params);
   const int threads = params.threads > 0 ? params.threads : omp_get_num_procs();
   all.scene_ms = segmentation_ms + msSince(start);
 

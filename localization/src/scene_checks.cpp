@@ -102,11 +102,14 @@ pcl::PointCloud<pcl::PointXYZRGBA> colouredCloud(const SceneView& view) {
 /** The scene as a depth image in the camera's frame: an organized cloud's own pixel grid when
  * its points fit a pinhole (0.5 pixel), else the points projected through the given
  * intrinsics or a virtual camera (DepthImage::sceneCamera). The table's pixels are background. */
-DepthImage sceneDepthImage(const SceneView& view, const pcl::Indices& table,
+DepthImage sceneDepthImage(const SceneView& view,
+                           const segmentation::TabletopSegmentation& segmentation,
                            const LocalizerParams& params) {
   DepthImage image(view.points, DepthImage::sceneCamera(view.points, view.width, view.height,
                                                         params.intrinsics));
-  image.markBackground(view.points, table);
+  image.markBackground(view.points, segmentation.plane.inliers);
+  if (segmentation.plane.found() && segmentation.hull.size() >= 3)
+    image.setSupportPlane(segmentation.plane.coefficients, segmentation.hull);
   image.markExplained(view.points, params.explained_indices);
   if (!view.colours.empty())
     image.setColours(view.points, view.colours);

@@ -24,8 +24,10 @@ namespace pcl::icf::localization::detail {
 
 /** The scene as a depth image in the camera's frame: an organized cloud's own pixel grid when
  * its points fit a pinhole (0.5 pixel), else the points projected through the given
- * intrinsics or a virtual camera (DepthImage::sceneCamera). The table's pixels are background. */
-DepthImage sceneDepthImage(const internal::SceneView& view, const pcl::Indices& table,
+ * intrinsics or a virtual camera (DepthImage::sceneCamera). The table's pixels are background
+ * and, where \a segmentation found it with its hull, the table is the support plane. */
+DepthImage sceneDepthImage(const internal::SceneView& view,
+                           const segmentation::TabletopSegmentation& segmentation,
                            const LocalizerParams& params);
 
 /** Takes the points another pose has explained (LocalizerParams::explained_indices, each an

@@ -28,12 +28,17 @@ py::dict verificationDict(const pcl::icf::DepthExplanation& v) {
       {"visible_support", &E::visible_support},
       {"residual", &E::residual},
       {"silhouette_continuation", &E::silhouette_continuation},
-      {"occluder_continuation", &E::occluder_continuation}};
+      {"occluder_continuation", &E::occluder_continuation},
+      {"silhouette_offset", &E::silhouette_offset},
+      {"allowed_offset", &E::allowed_offset},
+      {"sunk_into_support", &E::sunk_into_support},
+      {"support_tolerance", &E::support_tolerance}};
   py::dict d;
   for (const auto& [name, term] : kTerms)
     d[name] = v.*term;
   d["judged_pixels"] = v.model_pixels;
   d["silhouette_pixels"] = v.silhouette_pixels;
+  d["silhouette_edges"] = v.silhouette_edges;
   return d;
 }
 

@@ -6,6 +6,8 @@
 #include <pcl/point_types.h>
 #include <pcl_icf_internal/parameter_check.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -99,6 +101,49 @@ bool DepthImage::pixelOf(const Eigen::Vector3f& p, int& u, int& v) const {
     return false;
   u = static_cast<int>(fu);
   v = static_cast<int>(fv);
+  return true;
+}
+
+void DepthImage::setSupportPlane(const Eigen::Vector4f& plane,
+                                 const std::vector<Eigen::Vector3f>& hull) {
+  const char* where = "[pcl::icf::DepthImage::setSupportPlane] ";
+  if (!plane.allFinite() || std::abs(plane.head<3>().norm() - 1.f) > 1e-3f)
+    throw std::invalid_argument(std::string(where) + "the plane's normal must be of unit length");
+  if (hull.size() < 3)
+    throw std::invalid_argument(std::string(where) + "the hull has " + std::to_string(hull.size()) +
+                                " vertices, fewer than 3");
+  for (const auto& vertex : hull)
+    if (!vertex.allFinite())
+      throw std::invalid_argument(std::string(where) + "a hull vertex is not finite");
+  // The normal towards the camera (the origin): the camera lies on the plane's positive side.
+  plane_ = plane[3] < 0.f ? Eigen::Vector4f(-plane) : plane;
+  const Eigen::Vector3f n = plane_.head<3>();
+  plane_x_ = n.unitOrthogonal();
+  plane_y_ = n.cross(plane_x_);
+  hull_.clear();
+  for (const auto& vertex : hull)
+    hull_.emplace_back(plane_x_.dot(vertex), plane_y_.dot(vertex));
+  // Counter-clockwise, so that inside is left of every edge.
+  float area = 0.f;
+  for (std::size_t i = 0; i < hull_.size(); ++i) {
+    const auto& a = hull_[i];
+    const auto& b = hull_[(i + 1) % hull_.size()];
+    area += a.x() * b.y() - b.x() * a.y();
+  }
+  if (area < 0.f)
+    std::reverse(hull_.begin(), hull_.end());
+}
+
+bool DepthImage::overSupport(const Eigen::Vector3f& p) const {
+  if (hull_.empty())
+    return false;
+  const Eigen::Vector2f q(plane_x_.dot(p), plane_y_.dot(p));
+  for (std::size_t i = 0; i < hull_.size(); ++i) {
+    const Eigen::Vector2f e = hull_[(i + 1) % hull_.size()] - hull_[i];
+    const Eigen::Vector2f w = q - hull_[i];
+    if (e.x() * w.y() - e.y() * w.x() < 0.f)
+      return false;
+  }
   return true;
 }
 

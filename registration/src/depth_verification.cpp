@@ -11,10 +11,13 @@
 #include <pcl/icf/verification/depth_verification.h>
 #include <pcl_icf_internal/parameter_check.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -56,6 +59,12 @@ void DepthVerificationParams::validate() const {
     fail("fit_residual", fit_residual, "must be finite and not negative");
   if (!(max_residual > fit_residual))
     fail("max_residual", max_residual, "must exceed fit_residual (infinity: off)");
+  if (!(sink_tolerances > 0.0))
+    fail("sink_tolerances", sink_tolerances, "must be positive (infinity: off)");
+  if (!(edge_offset_pixels > 0.0))
+    fail("edge_offset_pixels", edge_offset_pixels, "must be positive (infinity: off)");
+  if (!(mesh_accuracy >= 0.f && std::isfinite(mesh_accuracy)))
+    fail("mesh_accuracy", mesh_accuracy, "must be finite and not negative");
 }
 
 namespace {
@@ -333,6 +342,200 @@ double bandReached(const Footprint& f, const ModelDepth& m, const DepthImage& im
   return band_pixels > 0 ? static_cast<double>(reached) / static_cast<double>(band_pixels) : 0.0;
 }
 
+/** The outward unit normal of the model's silhouette at covered pixel (\a u, \a v): the mean
+ * direction to its uncovered 8-neighbours; zero when all are covered. */
+Eigen::Vector2f silhouetteNormal(const ModelDepth& m, int u, int v) {
+  Eigen::Vector2f n = Eigen::Vector2f::Zero();
+  for (int dv = -1; dv <= 1; ++dv)
+    for (int du = -1; du <= 1; ++du)
+      if (!m.covers(u + du, v + dv))
+        n += Eigen::Vector2f(static_cast<float>(du), static_cast<float>(dv));
+  const float length = n.norm();
+  return length > 1e-6f ? Eigen::Vector2f(n / length) : Eigen::Vector2f::Zero();
+}
+
+/** Where the scene's occluding edge lies along the line from silhouette pixel (\a u, \a v)
+ * along \a normal, in pixels from the silhouette (0 when the scene's object ends where the
+ * model does: on the border between the silhouette pixel and the next one out); false when it
+ * is not found within \a reach (an occluder in front, the surface going on, the image's
+ * border, a hole wider than a pixel where the edge should be).
+ * Inside the footprint, the outermost pixel within reach whose depth lies on the model's
+ * surface (the table's included: it is no evidence, but no edge either), past pixels seen
+ * through or without depth; when that is the silhouette pixel, the scene's surface is followed
+ * outward without a depth edge (smoothStep) to where it steps back or reaches the table. A
+ * pixel without depth on the way holds the edge, half a pixel either way (a structured-light
+ * sensor loses one pixel on either side of an edge); a wider hole leaves it unknown, and a
+ * one-pixel hole in a surface that goes on beyond it does not stop it. */
+bool edgeAlongNormal(const ModelDepth& m, const DepthImage& image, int u, int v,
+                     const Eigen::Vector2f& normal, int reach, float diameter,
+                     const DepthVerificationParams& params, double& offset) {
+  auto pixel = [&](int t) {
+    return std::pair<int, int>{u + static_cast<int>(std::lround(t * normal.x())),
+                               v + static_cast<int>(std::lround(t * normal.y()))};
+  };
+  auto missing = [&](int t) {
+    const auto [pu, pv] = pixel(t);
+    return image.inside(pu, pv) && image.depth(pu, pv) == DepthImage::kEmpty;
+  };
+  int anchor = 1;
+  for (int t = 0; t >= -reach; --t) {
+    const auto [pu, pv] = pixel(t);
+    if (!m.covers(pu, pv))
+      return false;
+    const float z = image.depth(pu, pv);
+    if (z == DepthImage::kEmpty)
+      continue;
+    const std::size_t i = static_cast<std::size_t>(pv) * m.width + pu;
+    // Along the normal, but a face seen edge-on (a can's limb) still judged by its depth.
+    const float off = (z - m.depth[i]) * std::max(m.cosine[i], 0.05f);
+    const float tolerance = params.supportTolerance(m.depth[i], diameter);
+    if (std::abs(off) <= tolerance) {
+      anchor = t;
+      break;
+    }
+    if (off < -tolerance && !image.supportSurface(pu, pv))
+      return false;  // an occluder: where the object ends is hidden
+  }
+  if (anchor > 0)
+    return false;
+  if (anchor < 0) {  // the scene's object ends inside the model
+    if (!missing(anchor + 1)) {
+      offset = anchor;
+      return true;
+    }
+    if (anchor + 2 <= 0 && missing(anchor + 2))
+      return false;  // a wider hole: the edge lies somewhere in it
+    offset = anchor + 0.5;
+    return true;
+  }
+  const auto [su, sv] = pixel(0);
+  float last = image.depth(su, sv);
+  for (int t = 1; t <= reach; ++t) {
+    const auto [pu, pv] = pixel(t);
+    if (!image.inside(pu, pv))
+      return false;
+    float z = image.depth(pu, pv);
+    if (z == DepthImage::kEmpty) {
+      const auto [nu, nv] = pixel(t + 1);
+      const float next = image.depth(nu, nv);
+      if (next == DepthImage::kEmpty)
+        return false;  // a wider hole
+      // A one-pixel hole in a surface that goes on beyond it, or the edge.
+      if (t + 1 > reach || image.background(nu, nv) ||
+          std::abs(next - last) > 2.f * smoothStep(std::min(next, last), image, params)) {
+        offset = t - 0.5;
+        return true;
+      }
+      ++t;
+      z = next;
+      last = z;
+      continue;
+    }
+    const float step = smoothStep(std::min(z, last), image, params);
+    if (image.background(pu, pv) || z - last > step) {
+      offset = t - 1;
+      return true;
+    }
+    if (last - z > step)
+      return false;  // something in front
+    last = z;
+  }
+  return false;  // the surface goes on (silhouette_continuation judges that)
+}
+
+/** The mean silhouette offset (DepthExplanation::silhouette_offset) over the silhouette pixels
+ * of \a m whose edge edgeAlongNormal finds within \a reach; their number in \a edges and the
+ * mean's standard error in \a error. */
+double silhouetteOffset(const ModelDepth& m, const DepthImage& image, int reach, float diameter,
+                        const DepthVerificationParams& params, std::size_t& edges, double& error) {
+  double sum = 0.0, squares = 0.0;
+  edges = 0;
+  error = 0.0;
+  for (int v = m.v_min; v <= m.v_max; ++v)
+    for (int u = m.u_min; u <= m.u_max; ++u) {
+      if (!m.covers(u, v))
+        continue;
+      const Eigen::Vector2f normal = silhouetteNormal(m, u, v);
+      double offset = 0.0;
+      if (normal.isZero() ||
+          !edgeAlongNormal(m, image, u, v, normal, reach, diameter, params, offset))
+        continue;
+      sum += offset;
+      squares += offset * offset;
+      ++edges;
+    }
+  if (edges == 0)
+    return 0.0;
+  const double n = static_cast<double>(edges), mean = sum / n;
+  if (edges > 1)
+    error = std::sqrt(std::max(0.0, squares / n - mean * mean) / (n - 1.0));
+  return mean;
+}
+
+/** The plane (unit normal towards the camera, offset) through the support's pixels in \a m's
+ * footprint grown by half its size on every side (at least \a min_pixels of them, at most
+ * about 4000 used), least squares; nullopt when there are fewer. */
+std::optional<Eigen::Vector4f> localSupportPlane(const ModelDepth& m, const DepthImage& image,
+                                                 std::size_t min_pixels) {
+  const int gu = std::max(10, (m.u_max - m.u_min) / 2), gv = std::max(10, (m.v_max - m.v_min) / 2);
+  const int u0 = std::max(0, m.u_min - gu), u1 = std::min(image.width() - 1, m.u_max + gu);
+  const int v0 = std::max(0, m.v_min - gv), v1 = std::min(image.height() - 1, m.v_max + gv);
+  const std::size_t area = static_cast<std::size_t>(u1 - u0 + 1) * (v1 - v0 + 1);
+  const int stride = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(area) / 4000.0)));
+  std::vector<Eigen::Vector3f> points;
+  for (int v = v0; v <= v1; v += stride)
+    for (int u = u0; u <= u1; u += stride)
+      if (image.supportSurface(u, v))
+        points.push_back(image.pointAt(u, v, image.depth(u, v)));
+  if (points.size() < min_pixels)
+    return std::nullopt;
+  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+  for (const auto& p : points)
+    centroid += p;
+  centroid /= static_cast<float>(points.size());
+  Eigen::Matrix3f scatter = Eigen::Matrix3f::Zero();
+  for (const auto& p : points)
+    scatter += (p - centroid) * (p - centroid).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> solver(scatter);
+  Eigen::Vector3f normal = solver.eigenvectors().col(0);
+  if (normal.dot(centroid) > 0.f)
+    normal = -normal;  // towards the camera at the origin
+  return Eigen::Vector4f(normal.x(), normal.y(), normal.z(), -normal.dot(centroid));
+}
+
+/** DepthExplanation::sunk_into_support for \a m; \a deepest_z: the depth of its deepest
+ * pixel. Model pixels beneath the support plane where the support extends are measured from
+ * the local plane through the support's pixels around the model (localSupportPlane), or from
+ * the support plane itself where too few of them are seen. */
+double sunkIntoSupport(const ModelDepth& m, const DepthImage& image, float& deepest_z) {
+  deepest_z = m.nearest;
+  if (!image.hasSupportPlane())
+    return 0.0;
+  const Eigen::Vector4f& plane = image.supportPlane();
+  std::vector<Eigen::Vector3f> beneath;  // model surface points under the support
+  for (int v = m.v_min; v <= m.v_max; ++v)
+    for (int u = m.u_min; u <= m.u_max; ++u) {
+      if (!m.covers(u, v))
+        continue;
+      const Eigen::Vector3f p =
+          image.pointAt(u, v, m.depth[static_cast<std::size_t>(v) * m.width + u]);
+      if (plane.head<3>().dot(p) + plane[3] < 0.f && image.overSupport(p))
+        beneath.push_back(p);
+    }
+  if (beneath.empty())
+    return 0.0;
+  const Eigen::Vector4f local = localSupportPlane(m, image, 30).value_or(plane);
+  double sunk = 0.0;
+  for (const auto& p : beneath) {
+    const double depth = -(local.head<3>().dot(p) + local[3]);
+    if (depth > sunk) {
+      sunk = depth;
+      deepest_z = p.z();
+    }
+  }
+  return sunk;
+}
+
 /** What one model pixel's measurement says (DepthExplanation's terms). */
 enum Verdict : std::uint8_t {
   kSupported,
@@ -373,12 +576,13 @@ Verdict judgePixel(const ModelDepth& m, const DepthImage& image, int u, int v, i
   return background ? kOnBackground : kSupported;
 }
 
-/** (Offset of the measured depth from model pixel (u, v)'s surface along its normal / sigma)^2. */
+/** (Offset of the measured depth from model pixel (u, v)'s surface along its normal /
+ * fitSigma)^2. */
 double squaredNoiseOffset(const ModelDepth& m, const DepthImage& image, int u, int v,
                           const DepthVerificationParams& params) {
   const std::size_t i = static_cast<std::size_t>(v) * m.width + u;
   const double off = (image.depth(u, v) - m.depth[i]) * m.cosine[i];
-  const double sigma = params.noise.sigma(m.depth[i]);
+  const double sigma = params.fitSigma(m.depth[i]);
   return off * off / (sigma * sigma);
 }
 
@@ -564,6 +768,13 @@ std::string describeRefusal(const DepthExplanation& e, double min_confidence,
       << percent(e.supported) << " of it supported";
   if (e.out_of_view > 0.0)
     why << " (" << percent(e.out_of_view) << " beyond the image's border)";
+  if (params.edgeOffsetFactor(e.silhouette_offset, e.silhouette_edges, e.allowed_offset) < 1.0)
+    why << ", its edges lie " << std::round(10.0 * e.silhouette_offset) / 10.0
+        << " pixels from the scene's (" << std::round(10.0 * e.allowed_offset) / 10.0
+        << " allowed)";
+  if (params.sinkFactor(e.sunk_into_support, e.support_tolerance) < 1.0)
+    why << ", sinks " << std::round(1000.0 * e.sunk_into_support) / 10.0
+        << " cm into the surface it stands on";
   if (params.residualFactor(e.residual) < 1.0)
     why << " and fits the depth at " << std::round(100.0 * e.residual) / 100.0
         << " sigma, full confidence up to " << params.fit_residual;
@@ -634,14 +845,28 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
   e.occluder_continuation = occluders.empty() ? 0.0
                                               : static_cast<double>(reached_occluders) /
                                                     static_cast<double>(occluders.size());
+  const PinholeIntrinsics& k = image.intrinsics();
+  const double allowed = params.allowedEdgeOffset(m.nearest, std::max(k.fx, k.fy));
+  // Far enough to find an edge twice the allowed offset out, where the confidence reaches 0.
+  const int reach = std::clamp(static_cast<int>(std::ceil(2.0 * allowed)) + 1, 4, 16);
+  double error = 0.0;
+  e.silhouette_offset =
+      silhouetteOffset(m, image, reach, diameter, params, e.silhouette_edges, error);
+  // A mean of few, scattered edges is known only so well: two standard errors more allowed.
+  e.allowed_offset = allowed + 2.0 * error;
+  float deepest_z = m.nearest;
+  e.sunk_into_support = sunkIntoSupport(m, image, deepest_z);
+  e.support_tolerance = params.supportTolerance(deepest_z, diameter);
   const std::size_t conflicts = seen_through + below_support;
   e.visible_support = supported + conflicts > 0 ? static_cast<double>(supported) /
                                                       static_cast<double>(supported + conflicts)
                                                 : 0.0;
-  e.confidence = std::max(0.0, 1.0 - (1.0 - e.visible_support) / params.max_conflict) *
-                 std::max(0.0, 1.0 - e.silhouette_continuation / params.max_continuation) *
-                 std::min(1.0, e.supported / params.full_evidence) *
-                 params.residualFactor(e.residual);
+  e.confidence =
+      std::max(0.0, 1.0 - (1.0 - e.visible_support) / params.max_conflict) *
+      std::max(0.0, 1.0 - e.silhouette_continuation / params.max_continuation) *
+      std::min(1.0, e.supported / params.full_evidence) * params.residualFactor(e.residual) *
+      params.edgeOffsetFactor(e.silhouette_offset, e.silhouette_edges, e.allowed_offset) *
+      params.sinkFactor(e.sunk_into_support, e.support_tolerance);
   return e;
 }
 

@@ -24,15 +24,6 @@ namespace {
 
 using namespace pcl::icf;
 
-/** The scan's cloud as points, one per pixel, row-major (NaN where nothing was hit). */
-std::vector<Eigen::Vector3f> pointsOf(const synthetic::Scan& scan) {
-  std::vector<Eigen::Vector3f> points;
-  points.reserve(scan.cloud->size());
-  for (const auto& p : *scan.cloud)
-    points.emplace_back(p.x, p.y, p.z);
-  return points;
-}
-
 struct RenderedBox {
   synthetic::SyntheticModel model = synthetic::thesisModel("Box5");
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -51,7 +42,7 @@ RenderedBox renderBox(const synthetic::ScanNoise& noise, double tilt = 0.6) {
   object.pose = r.pose;
   object.label = 1;
   r.scan = synthetic::renderScan({object}, synthetic::CameraIntrinsics(), noise);
-  r.points = pointsOf(r.scan);
+  r.points = synthetic::scanPoints(r.scan);
   return r;
 }
 
@@ -173,7 +164,7 @@ TEST(DepthVerification, AnOccludedTargetKeepsTheEvidenceItShows) {
   const double seen = box_pixels(scan) / box_pixels(alone.scan);
   ASSERT_GT(seen, 0.36);  // the scene this test is about: 36-43% of the box seen
   ASSERT_LT(seen, 0.43);
-  const std::vector<Eigen::Vector3f> points = pointsOf(scan);
+  const std::vector<Eigen::Vector3f> points = synthetic::scanPoints(scan);
   const DepthImage image(points, PinholeIntrinsics());
   const IcfModel::ConstPtr model = IcfModel::build(alone.model.mesh);
   DepthVerificationParams old_rule;
@@ -203,7 +194,7 @@ DepthImage scanOfBox(double sx, double sy, double sz, const Eigen::Isometry3d& p
   object.label = 1;
   const synthetic::Scan scan =
       synthetic::renderScan({object}, synthetic::CameraIntrinsics(), noise);
-  return DepthImage(pointsOf(scan), PinholeIntrinsics());
+  return DepthImage(synthetic::scanPoints(scan), PinholeIntrinsics());
 }
 
 // A bigger look-alike: the scan is of a box 2.5 mm larger on every side (14.5 x 9.5 x 5.5 cm)
@@ -332,7 +323,7 @@ TEST(DepthVerification, PointsExplainedByAPoseAreItsOwn) {
   noise.seed = 11;
   const synthetic::TabletopScene scene = synthetic::makeTabletopScene(
       {box, can}, {{-0.05, 0.0, 0.3}, {0.05, 0.0, 0.0}}, synthetic::CameraIntrinsics(), noise);
-  const std::vector<Eigen::Vector3f> points = pointsOf(scene.scan);
+  const std::vector<Eigen::Vector3f> points = synthetic::scanPoints(scene.scan);
   const DepthImage image(points, PinholeIntrinsics());
   const IcfModel::ConstPtr model = IcfModel::build(box.mesh);
   const std::vector<int> explained =

@@ -33,17 +33,19 @@ const localization::ClusterLocalization* topCluster(const localization::Localiza
 /** The verification's terms of \a c, "supported=0.91 seen_through=0.02 ..." (for the CSV). */
 std::string verificationTerms(const localization::ClusterLocalization& c) {
   const auto& e = c.verification;
-  char text[512];
+  char text[768];
   std::snprintf(text, sizeof(text),
                 "pixels=%zu supported=%.4f seen_through=%.4f occluded=%.4f below_support=%.4f "
                 "isolated=%.4f missing=%.4f out_of_view=%.4f on_background=%.4f "
                 "visible_support=%.4f "
                 "continuation=%.4f band=%zu occluder_continuation=%.4f residual=%.3f "
+                "edge_offset=%.3f edges=%zu allowed_offset=%.3f sunk=%.4f support_tolerance=%.4f "
                 "turned=%d alternatives=%zu colour=%.4f",
                 e.model_pixels, e.supported, e.seen_through, e.occluded, e.below_support,
                 e.isolated_conflicts, e.missing, e.out_of_view, e.on_background, e.visible_support,
                 e.silhouette_continuation, e.silhouette_pixels, e.occluder_continuation, e.residual,
-                c.turned ? 1 : 0, c.alternatives.size(),
+                e.silhouette_offset, e.silhouette_edges, e.allowed_offset, e.sunk_into_support,
+                e.support_tolerance, c.turned ? 1 : 0, c.alternatives.size(),
                 c.colour_similarity ? *c.colour_similarity : -1.0);
   return text;
 }

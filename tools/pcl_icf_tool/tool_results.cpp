@@ -118,7 +118,12 @@ json clusterJson(const localization::ClusterLocalization& c, int index, const Sc
                        {"residual", c.verification.residual},
                        {"silhouette_continuation", c.verification.silhouette_continuation},
                        {"silhouette_pixels", c.verification.silhouette_pixels},
-                       {"occluder_continuation", c.verification.occluder_continuation}};
+                       {"occluder_continuation", c.verification.occluder_continuation},
+                       {"silhouette_offset", c.verification.silhouette_offset},
+                       {"silhouette_edges", c.verification.silhouette_edges},
+                       {"allowed_offset", c.verification.allowed_offset},
+                       {"sunk_into_support", c.verification.sunk_into_support},
+                       {"support_tolerance", c.verification.support_tolerance}};
   j["colour_similarity"] = c.colour_similarity ? json(*c.colour_similarity) : json(nullptr);
   j["time_ms"] = c.icf.time_ms;
   return j;

@@ -140,6 +140,7 @@ void ObjectTracker::reset() {
     o.frames_lost = 0;
   }
   plane_.reset();
+  hull_.clear();
   intrinsics_.reset();
   frame_ = 0;
 }
@@ -166,6 +167,8 @@ DepthImage ObjectTracker::depthImage(const FrameView& view, std::vector<bool>& t
       }
     }
     image.markBackground(view.points, background);
+    if (hull_.size() >= 3)
+      image.setSupportPlane(*plane_, hull_);
   }
   if (!view.colours.empty())
     image.setColours(view.points, view.colours);
@@ -209,14 +212,14 @@ bool ObjectTracker::refine(const FrameView& view, const DepthImage& image,
   const auto verify_start = Clock::now();
   const Eigen::Isometry3f pose = r.scene_to_model.inverse();
   out.verification =
-      explainDepth(*object.model, pose, image, params_.localizer.tuning().verification);
+      explainDepth(*object.model, pose, image, params_.localizer.verificationParams());
   out.confidence = out.verification.confidence;
   out.refine_confidence = out.confidence;
   out.verify_ms = msSince(verify_start);
   if (out.confidence < params_.localizer.min_confidence) {
     out.message =
         "the refined pose: " + describeRefusal(out.verification, params_.localizer.min_confidence,
-                                               params_.localizer.tuning().verification);
+                                               params_.localizer.verificationParams());
     out.refine_message = out.message;
     return false;
   }
@@ -295,7 +298,7 @@ bool ObjectTracker::reacquire(const FrameView& view, const DepthImage& image,
                                     lp.tuning().icf.global, lp.seed, threads),
                        *object.model, params_.tuning().reacquire_shift);
   const int n = static_cast<int>(starts.size());
-  DepthVerificationParams verification = lp.tuning().verification;
+  DepthVerificationParams verification = lp.verificationParams();
   verification.full_evidence = params_.tuning().reacquire_full_evidence;
   std::vector<Eigen::Isometry3f> poses(starts.size());
   std::vector<DepthExplanation> explanations(starts.size());
@@ -349,6 +352,9 @@ bool ObjectTracker::search(const pcl::PointCloud<PointT>& frame, const FrameView
     c.head<3>() = view.camera_to_scene.linear().transpose() * s.head<3>();
     c[3] = s.head<3>().dot(view.camera_to_scene.translation()) + s[3];
     plane_ = c;
+    hull_.clear();
+    for (const auto& vertex : loc.segmentation.hull)
+      hull_.push_back(scene_to_camera * vertex);
   }
   if (loc.best < 0) {
     out.message = loc.message.empty() ? localization::toString(loc.status) : loc.message;
@@ -379,7 +385,7 @@ std::vector<int> ObjectTracker::explainedByOthers(const FrameView& view, DepthIm
     if (image.empty())
       image = depthImage(view, table);
     const std::vector<int> mine = pointsExplainedBy(*other.model, *other.last, image, view.points,
-                                                    params_.localizer.tuning().verification);
+                                                    params_.localizer.verificationParams());
     explained.insert(explained.end(), mine.begin(), mine.end());
   }
   std::sort(explained.begin(), explained.end());

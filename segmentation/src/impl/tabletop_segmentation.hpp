@@ -205,6 +205,8 @@ pcl::icf::segmentation::TabletopSegmentation pcl::icf::segmentation::segmentTabl
   if (const auto stop =
           detail::findTable(cloud, finite, params, seg, stage, hull, searched_inliers))
     return finish(stop->status, stop->message);
+  for (const auto& vertex : hull)
+    seg.hull.push_back(vertex.getVector3fMap());
   if (const auto stop =
           detail::selectAboveTable(cloud, finite, hull, searched_inliers, params, seg, stage))
     return finish(stop->status, stop->message);

@@ -69,6 +69,12 @@ struct LocalizerParams {
    * cases, real and synthetic (doc/TUNING.md): the middle of the gap between the look-alikes
    * (at most 0.80, one real case excepted) and the right poses (at least 0.95). */
   double min_confidence = 0.875;
+  /** How far the mesh's surface may lie from the real object's, in metres: about 0 for a CAD
+   * model of a manufactured part, 1-2 mm for a scanned mesh (YCB's). The verification then
+   * forgives a right pose that much misfit of its depth and silhouette
+   * (DepthVerificationParams::mesh_accuracy); a value larger than the mesh's real error lets
+   * a look-alike that many millimetres off pass. */
+  float mesh_accuracy = 0.f;
   /** The search of a hypothesis (IcfParams::strategy). */
   SearchStrategy strategy = IcfParams{}.strategy;
   /** The SampleConsensus (FPFH) alignment as a fallback (IcfParams::fallback). */
@@ -117,6 +123,9 @@ struct LocalizerParams {
   IcfParams icfParams() const;
   /** What the scene is segmented with: tuning().segmentation with this struct's cluster. */
   segmentation::TabletopParams segmentationParams() const;
+  /** What every pose is verified with: tuning().verification with this struct's
+   * mesh_accuracy. */
+  DepthVerificationParams verificationParams() const;
 
   /** \throws std::invalid_argument naming the field. */
   void validate() const;

@@ -146,6 +146,26 @@ class DepthImage {
   /** \brief Pixel (rounded) of a camera-frame point; false when it is behind the camera or
    * outside the image. */
   bool pixelOf(const Eigen::Vector3f& p, int& u, int& v) const;
+  /** \brief The camera-frame point at depth \a z on pixel (u, v)'s ray. */
+  Eigen::Vector3f pointAt(int u, int v, float z) const {
+    return {(static_cast<float>(u) - k_.cx) / k_.fx * z,
+            (static_cast<float>(v) - k_.cy) / k_.fy * z, z};
+  }
+
+  /** \brief The surface the scene's objects stand on: its \a plane (a x + b y + c z + d = 0 in
+   * the camera's frame, (a, b, c) a unit normal) and the convex polygon it extends over on it
+   * (\a hull: its vertices in order, at least 3). A model that sinks into it where it extends
+   * cannot be there (DepthExplanation::sunk_into_support); its pixels are marked with
+   * markBackground. The normal is turned towards the camera.
+   * \throws std::invalid_argument for a normal that is not of unit length, a plane or vertex
+   * that is not finite, or fewer than 3 vertices. */
+  void setSupportPlane(const Eigen::Vector4f& plane, const std::vector<Eigen::Vector3f>& hull);
+  bool hasSupportPlane() const { return !hull_.empty(); }
+  /** \brief The support plane, its normal towards the camera (setSupportPlane). */
+  const Eigen::Vector4f& supportPlane() const { return plane_; }
+  /** \brief True when the foot of camera-frame point \a p on the support plane lies inside the
+   * support's hull (false without a support plane). */
+  bool overSupport(const Eigen::Vector3f& p) const;
 
  private:
   PinholeIntrinsics k_;
@@ -155,6 +175,9 @@ class DepthImage {
             std::uint8_t kind);
   std::vector<std::uint8_t> background_;  ///< 0, kSupport or kExplained per pixel
   std::vector<Eigen::Vector3f> colour_;
+  Eigen::Vector4f plane_ = Eigen::Vector4f::Zero();  ///< the support plane (setSupportPlane)
+  Eigen::Vector3f plane_x_ = Eigen::Vector3f::Zero(), plane_y_ = Eigen::Vector3f::Zero();
+  std::vector<Eigen::Vector2f> hull_;  ///< the support's hull in (plane_x_, plane_y_), ccw
 };
 
 }  // namespace icf

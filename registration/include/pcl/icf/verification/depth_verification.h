@@ -20,6 +20,8 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cmath>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -78,6 +80,29 @@ struct DepthVerificationParams {
    * (doc/TUNING.md, "The depth verification"). */
   double fit_residual = 1.5;
   double max_residual = 3.5;
+  /** Where the scene's occluding edge lies beside the model's silhouette, averaged over the
+   * silhouette (DepthExplanation::silhouette_offset, pixels): a right pose puts it on the
+   * silhouette within the sensor's and the rasterisation's uncertainty of an edge, about half
+   * a pixel; a model posed on a look-alike a few millimetres larger or smaller all round
+   * (a 4.5 cm can on a 5 cm one) a pixel or more off on every side. Up to edge_offset_pixels
+   * plus the mesh's own error (mesh_accuracy at the model's depth, in pixels) and two standard
+   * errors of the mean the confidence does not depend on it; beyond, it falls linearly and
+   * reaches 0 at twice that. Judged only with at least min_edge_pixels silhouette pixels whose
+   * edge was found. */
+  double edge_offset_pixels = 0.5;
+  std::size_t min_edge_pixels = 10;
+  /** How deep a model may sink into the surface it stands on (DepthImage::setSupportPlane,
+   * DepthExplanation::sunk_into_support), in support tolerances (supportTolerance at the
+   * model's deepest point): the support's plane is measured by the same sensor as the model's
+   * surface, so its error adds to theirs. Beyond it the confidence falls linearly and reaches
+   * 0 one support tolerance deeper: a model posed on a shorter look-alike whose foot is hidden
+   * behind an occluder (a 15 cm can on a 10 cm one) reaches through the table. */
+  double sink_tolerances = 2.0;
+  /** How far the mesh's surface may lie from the real object's, in metres (a CAD model of a
+   * manufactured part about 0, a scanned YCB mesh 1-2 mm): it adds to the sensor's noise where
+   * the fit is judged (fitSigma: a right pose fits the depth that much less closely) and to
+   * where the silhouette may lie (allowedEdgeOffset). */
+  float mesh_accuracy = 0.f;
 
   /** The limits for a mesh that is the object itself (a CAD model of a manufactured part, a
    * synthetic suite's meshes): a right pose then fits as closely as the sensor measures and a
@@ -95,12 +120,45 @@ struct DepthVerificationParams {
     return noise_sigmas * noise.sigma(z) + size_tolerance * diameter;
   }
 
+  /** The spread of a right pose's surface about the measured depth at depth \a z: the sensor's
+   * noise and the mesh's own error together, sqrt(sigma(z)^2 + mesh_accuracy^2) (what
+   * DepthExplanation::residual is measured in). */
+  float fitSigma(float z) const {
+    const float s = noise.sigma(z);
+    return std::sqrt(s * s + mesh_accuracy * mesh_accuracy);
+  }
+
   /** The confidence's factor for a pose of \a residual (DepthExplanation::residual): 1 up to
    * fit_residual, falling linearly to 0 at max_residual. */
   double residualFactor(double residual) const {
     if (residual <= fit_residual)
       return 1.0;
     return std::max(0.0, 1.0 - (residual - fit_residual) / (max_residual - fit_residual));
+  }
+
+  /** The silhouette offset (pixels) up to which the confidence does not depend on it, for a
+   * model whose silhouette lies at depth \a z in an image of focal length \a focal (pixels):
+   * edge_offset_pixels + mesh_accuracy x focal / z. */
+  double allowedEdgeOffset(float z, float focal) const {
+    return edge_offset_pixels + static_cast<double>(mesh_accuracy * focal / z);
+  }
+  /** The confidence's factor for \a explanation's silhouette offset: 1 up to \a allowed
+   * (allowedEdgeOffset), falling linearly to 0 at twice it; 1 when fewer than min_edge_pixels
+   * edges were found. */
+  double edgeOffsetFactor(double offset, std::size_t edges, double allowed) const {
+    if (edges < min_edge_pixels || std::abs(offset) <= allowed)
+      return 1.0;
+    return std::max(0.0, 2.0 - std::abs(offset) / allowed);
+  }
+
+  /** The confidence's factor for a model sunk \a sunk metres into its support where the support
+   * tolerance is \a support_tolerance: 1 up to sink_tolerances of them, falling linearly to 0
+   * one more deeper. */
+  double sinkFactor(double sunk, double support_tolerance) const {
+    const double allowed = sink_tolerances * support_tolerance;
+    if (sunk <= allowed)
+      return 1.0;
+    return std::max(0.0, 1.0 - (sunk - allowed) / support_tolerance);
   }
 
   /** \throws std::invalid_argument naming the field. */
@@ -174,9 +232,10 @@ struct DepthExplanation {
    * the table's surface would otherwise be "supported" everywhere). */
   double on_background = 0.0;
   /** RMS over the supported pixels of the measured depth's offset from the model surface
-   * (along its normal) in units of the sensor's noise sigma(z): about 1 when the model fits
-   * as well as the sensor measures, more when the mesh or the pose is off within the
-   * tolerance. Breaks ties between poses of equal confidence (a near-symmetric turn). */
+   * (along its normal) in units of fitSigma(z), the sensor's noise and the mesh's accuracy
+   * together: about 1 when the model fits as well as the sensor measures and the mesh is
+   * made, more when the pose is off within the tolerance or the model is laid on an object of
+   * another size. Breaks ties between poses of equal confidence (a near-symmetric turn). */
   double residual = 0.0;
   /** supported / (supported + seen_through + below_support): of the model's
    * pixels where the camera could have seen the model, the share where it did. */
@@ -189,6 +248,28 @@ struct DepthExplanation {
    * pixels out), the share it reaches: a silhouette where the scene shows no depth step. */
   double silhouette_continuation = 0.0;
   std::size_t silhouette_pixels = 0;  ///< pixels of the band around the silhouette
+  /** Where the scene's occluding edge lies from the model's silhouette, in pixels, averaged
+   * over the silhouette pixels where it was found (silhouette_edges): positive where the
+   * scene's surface goes on beyond the silhouette before it drops behind or ends, negative
+   * where it ends inside it. From each silhouette pixel along the outward normal: inside, the
+   * outermost pixel whose measured depth lies on the model's surface; outside, the scene's
+   * surface followed without a depth edge up to where it steps back or has no depth. Where
+   * something lies in front (an occluder) or the surface goes on past the look's reach, the
+   * edge is not found. About 0 for a right pose; the size difference of a look-alike, in
+   * pixels, for a model posed on it. */
+  double silhouette_offset = 0.0;
+  std::size_t silhouette_edges = 0;  ///< silhouette pixels whose edge was found
+  /** The offset up to which the confidence does not depend on it: allowedEdgeOffset plus two
+   * standard errors of the mean (a mean of few, scattered edges is known only so well). */
+  double allowed_offset = 0.0;
+  /** How deep (metres) the model's camera-facing surface goes beneath the surface the scene's
+   * objects stand on (DepthImage::setSupportPlane), where that surface extends (its hull):
+   * measured from the plane through the support's pixels around the model, so that the
+   * sensor's low-frequency depth error (a real table near 1 m lies a few millimetres off its
+   * own best plane) does not count. 0 when the model stays above it or the image has none. */
+  double sunk_into_support = 0.0;
+  /** The support tolerance at the model's deepest point (sinkFactor's \a support_tolerance). */
+  double support_tolerance = 0.0;
   /** Of the model's occluded pixels, the share the same grown surface reaches: the
    * "occluder" is the scene surface carrying on in front of the model (a taller can around a
    * shorter model) or an object in contact with it (a can standing on a box; its colour
@@ -196,7 +277,9 @@ struct DepthExplanation {
   double occluder_continuation = 0.0;
   /** In [0, 1]: max(0, 1 - (1 - visible_support) / max_conflict) x max(0, 1 -
    * silhouette_continuation / max_continuation) x min(1, supported / full_evidence) x
-   * residualFactor(residual). What the localizer ranks and accepts by (doc/localizer.md). */
+   * residualFactor(residual) x edgeOffsetFactor(silhouette_offset) x
+   * sinkFactor(sunk_into_support). What the localizer ranks and accepts by
+   * (doc/localizer.md). */
   double confidence = 0.0;
 };
 

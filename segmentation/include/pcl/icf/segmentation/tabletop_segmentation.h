@@ -14,6 +14,8 @@
 #include <pcl/point_cloud.h>
 #include <pcl/types.h>
 
+#include <Eigen/Core>
+
 #include <string>
 #include <vector>
 
@@ -92,6 +94,9 @@ struct TabletopSegmentation {
    * finite points of the full-resolution cloud (refitted and reselected there when
    * voxel_size > 0). Status NoPlane (all zero) when the segmentation stopped before the plane. */
   TablePlane plane;
+  /** The table's convex hull on its plane: its vertices in order, in the cloud's frame (empty
+   * when the segmentation stopped before it). What the objects stand on extends this far. */
+  std::vector<Eigen::Vector3f> hull;
   /** Finite points inside the prism over the table's convex hull, increasing. */
   pcl::Indices above_table;
   /** Clusters of above_table, in extractClusters' order (largest first). */

@@ -231,6 +231,7 @@ class ObjectTracker {
   TrackerParams params_;
   std::vector<Object> objects_;
   std::optional<Eigen::Vector4f> plane_;  ///< the table in the camera's frame
+  std::vector<Eigen::Vector3f> hull_;     ///< its hull in the camera's frame (may be empty)
   std::optional<PinholeIntrinsics> intrinsics_;
   int frame_ = 0;
 };

@@ -73,6 +73,8 @@ void DepthNoiseModel::validate() const {
     fail("DepthNoiseModel", "coefficient", coefficient, "must be finite and >= 0");
   if (!(floor > 0.f) || !std::isfinite(floor))
     fail("DepthNoiseModel", "floor", floor, "must be positive and finite");
+  if (!(systematic >= 0.f) || !std::isfinite(systematic))
+    fail("DepthNoiseModel", "systematic", systematic, "must be finite and >= 0");
 }
 
 DepthImage::DepthImage(const std::vector<Eigen::Vector3f>& points,

@@ -46,8 +46,17 @@ struct PinholeIntrinsics {
 struct DepthNoiseModel {
   float coefficient = 1.4e-3f;  ///< per metre: sigma = coefficient * z^2
   float floor = 5e-4f;          ///< smallest sigma (time-of-flight sensors: use a constant)
+  /** Per metre: the sensor's low-frequency depth error at depth z, systematic * z^2, over an
+   * object's extent (its calibration's residual distortion: a real table near 1 m bends by
+   * millimetres, and a right pose's surface differs from the measured one by as much). It
+   * does not widen what a pixel's depth supports (sigma); it is what a right pose's fit may
+   * show beyond the pixel noise (DepthVerificationParams::fitSigma). A simulated sensor
+   * without such an error: 0. */
+  float systematic = 0.f;
 
   float sigma(float z) const { return std::max(floor, coefficient * z * z); }
+  /** The low-frequency error at depth \a z: systematic * z^2. */
+  float systematicError(float z) const { return systematic * z * z; }
   void validate() const;
 };
 

@@ -121,11 +121,12 @@ struct DepthVerificationParams {
   }
 
   /** The spread of a right pose's surface about the measured depth at depth \a z: the sensor's
-   * noise and the mesh's own error together, sqrt(sigma(z)^2 + mesh_accuracy^2) (what
-   * DepthExplanation::residual is measured in). */
+   * pixel noise, its low-frequency error and the mesh's own error together, sqrt(sigma(z)^2 +
+   * systematicError(z)^2 + mesh_accuracy^2) (what DepthExplanation::residual is measured
+   * in). */
   float fitSigma(float z) const {
-    const float s = noise.sigma(z);
-    return std::sqrt(s * s + mesh_accuracy * mesh_accuracy);
+    const float s = noise.sigma(z), d = noise.systematicError(z);
+    return std::sqrt(s * s + d * d + mesh_accuracy * mesh_accuracy);
   }
 
   /** The confidence's factor for a pose of \a residual (DepthExplanation::residual): 1 up to

@@ -52,6 +52,15 @@ FieldRegistry<LocalizerParams> ownFields() {
                      "how far the mesh's surface may lie from the object's, metres (CAD 0, "
                      "scanned 0.001-0.002)",
                      PCL_ICF_OWN(mesh_accuracy), false),
+      numberField<P>("depth_noise", 0, 1,
+                     "the camera's depth noise (sigma) at 1 m, metres; grows with z^2",
+                     PCL_ICF_OWN(depth_noise.coefficient), false),
+      numberField<P>("depth_noise_floor", 1e-6, 1, "the camera's smallest depth sigma, metres",
+                     PCL_ICF_OWN(depth_noise.floor), false),
+      numberField<P>("depth_systematic", 0, 1,
+                     "the camera's low-frequency depth error at 1 m, metres; grows with z^2 "
+                     "(a simulated camera: 0)",
+                     PCL_ICF_OWN(depth_noise.systematic), false),
   };
   // The registration's strategy, fallback, seed and threads are the localizer's own.
   f.push_back(choiceField<P>("strategy", {"fast", "thesis"}, findField(icfFields(), "strategy").doc,
@@ -88,9 +97,6 @@ FieldRegistry<LocalizerParams> tuningFields() {
                      PCL_ICF_TUNING(verification.fit_residual)),
       numberField<P>("max_residual", 0, inf, "its zero-confidence residual (inf: off)",
                      PCL_ICF_TUNING(verification.max_residual)),
-      numberField<P>("depth_systematic", 0, inf,
-                     "the sensor's low-frequency depth error at 1 m (grows with z^2), metres",
-                     PCL_ICF_TUNING(verification.noise.systematic)),
       numberField<P>("full_evidence", 0, 1,
                      "share of the visible model the depth must support for full confidence",
                      PCL_ICF_TUNING(verification.full_evidence)),

@@ -48,13 +48,6 @@ void ColourCue::validate() const {
     fail("bins", bins, "must lie in [2, 360]");
 }
 
-void LocalizerParams::useExactMeshSettings() {
-  const DepthVerificationParams exact = DepthVerificationParams::forExactMesh();
-  tuning_.verification.fit_residual = exact.fit_residual;
-  tuning_.verification.max_residual = exact.max_residual;
-  tuning_.icf.global.keep = kExactMeshKeep;
-}
-
 IcfParams LocalizerTuning::defaultIcf() {
   IcfParams icf;
   icf.acceptance.gate.max_fraction = FarPointGate::kLocalizerMaxFraction;
@@ -64,6 +57,7 @@ IcfParams LocalizerTuning::defaultIcf() {
 DepthVerificationParams LocalizerParams::verificationParams() const {
   DepthVerificationParams verification = tuning_.verification;
   verification.mesh_accuracy = mesh_accuracy;
+  verification.noise = depth_noise;
   return verification;
 }
 
@@ -110,6 +104,7 @@ void LocalizerParams::validate() const {
     fail("threads", threads, "must lie in [0, 1024] (0 = all cores)");
   if (max_instances < 1 || max_instances > 1000)
     fail("max_instances", max_instances, "must lie in [1, 1000]");
+  depth_noise.validate();
   if (!(mesh_accuracy >= 0.f && mesh_accuracy <= 0.05f))
     fail("mesh_accuracy", mesh_accuracy, "must lie in [0, 0.05] metres");
   if (camera_pose)

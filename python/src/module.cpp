@@ -432,8 +432,7 @@ PYBIND11_MODULE(pcl_icf, m) {
       "localize(scene_xyz[, rgb], model, camera=None, **params)\n\n"
       "scene_xyz: (N, 3) or organized (H, W, 3) float32/float64, metres, NaN for no depth;\n"
       "rgb: uint8 of the same shape (optional); camera: 4x4 camera -> scene pose (default:\n"
-      "identity); exact_mesh=True: the mesh is the object itself (CAD): its closer residual\n"
-      "limits and more hypotheses (the tool's --exact-mesh; keywords given with it win);\n"
+      "identity); mesh_accuracy: how far the mesh may lie from the object (metres);\n"
       "params: see localize_defaults(). Returns a namespace with status, message,\n"
       "found, instances (best first), best, clusters, camera_pose and timing; each instance\n"
       "has pose (4x4), confidence, verification terms, quality, alternatives, time_ms." +

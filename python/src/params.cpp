@@ -190,29 +190,22 @@ const FieldTable<pcl::icf::tracking::TrackerParams>& trackerKeywords() {
   return table;
 }
 
-/** \a kwargs less exact_mesh, which is applied to \a params first (useExactMeshSettings when
- * true), as the tool's --exact-mesh: the keywords given with it win. */
-py::kwargs withExactMesh(localization::LocalizerParams& params, const py::kwargs& kwargs) {
-  py::kwargs rest;
-  for (const auto& item : kwargs) {
-    if (item.first.cast<std::string>() != "exact_mesh") {
-      rest[item.first] = item.second;
-      continue;
-    }
-    // Strictly a bool: a switch that 0.8 or None silently turned off would hide a mistake.
-    if (!py::isinstance<py::bool_>(item.second))
-      throw py::type_error("exact_mesh: cannot take " + py::repr(item.second).cast<std::string>() +
-                           " (True or False)");
-    if (item.second.cast<bool>())
-      params.useExactMeshSettings();
-  }
-  return rest;
+/** \a kwargs, refused with the replacement when they hold exact_mesh (gone: one rule verifies
+ * every mesh). */
+const py::kwargs& withoutExactMesh(const py::kwargs& kwargs) {
+  for (const auto& item : kwargs)
+    if (item.first.cast<std::string>() == "exact_mesh")
+      throw py::type_error(
+          "exact_mesh is gone: one rule verifies every mesh. A mesh that differs from the "
+          "object: mesh_accuracy=M (metres); a simulated camera without low-frequency depth "
+          "error: depth_systematic=0");
+  return kwargs;
 }
 
 }  // namespace
 
 void applyLocalizerKwargs(localization::LocalizerParams& params, const py::kwargs& kwargs) {
-  apply(localizerKeywords(), params, withExactMesh(params, kwargs), "localize");
+  apply(localizerKeywords(), params, withoutExactMesh(kwargs), "localize");
 }
 
 void applyIcfKwargs(pcl::icf::IcfParams& params, const py::kwargs& kwargs) {
@@ -220,7 +213,7 @@ void applyIcfKwargs(pcl::icf::IcfParams& params, const py::kwargs& kwargs) {
 }
 
 void applyTrackerKwargs(pcl::icf::tracking::TrackerParams& params, const py::kwargs& kwargs) {
-  apply(trackerKeywords(), params, withExactMesh(params.localizer, kwargs), "Tracker");
+  apply(trackerKeywords(), params, withoutExactMesh(kwargs), "Tracker");
 }
 
 py::dict trackerDefaults() {

@@ -75,12 +75,10 @@ def test_unknown_or_mistyped_keyword(box_model):
         pcl_icf.localize(GOOD, box_model, seed="x")
     with pytest.raises(TypeError, match="model"):
         pcl_icf.localize(GOOD, GOOD)
-    with pytest.raises(TypeError, match="exact_mesh"):
-        pcl_icf.localize(GOOD, box_model, exact_mesh="yes")
-    with pytest.raises(TypeError, match="exact_mesh"):
-        pcl_icf.localize(GOOD, box_model, exact_mesh=1)
-    with pytest.raises(TypeError, match="exact_mesh"):
-        pcl_icf.Tracker(exact_mesh=[1])
+    with pytest.raises(TypeError, match="exact_mesh is gone.*mesh_accuracy"):
+        pcl_icf.localize(GOOD, box_model, exact_mesh=True)
+    with pytest.raises(TypeError, match="exact_mesh is gone.*depth_systematic"):
+        pcl_icf.Tracker(exact_mesh=True)
 
 
 def test_bad_estimate_pose(box_model):

@@ -84,10 +84,11 @@ def test_same_as_the_tool_on_ycbv_frames(tool, tmp_path):
         assert np.linalg.norm(got.pose[:3, 3] - truth[:3, 3]) < 0.01
 
 
-def test_exact_mesh_is_the_tools(tool, tmp_path):
-    # Tracker(exact_mesh=True) takes the tool's --track --exact-mesh settings, and they change
-    # the answer: on a real frame with YCB's scanned gelatin-box mesh (1-3 mm off the box) the
-    # default tracker finds the box, the exact-mesh one refuses it, as the tool does.
+def test_a_simulated_camera_is_the_tools(tool, tmp_path):
+    # Tracker(depth_systematic=0) takes the tool's --track --set depth_systematic=0, and it
+    # changes the answer: on a real frame (whose depth carries a real camera's low-frequency
+    # error) the default tracker finds the gelatin box, one told that the camera is a simulated
+    # one without that error refuses it, as the tool does.
     require(YCBV.is_dir(), f"{YCBV} not present")
     frame = YCBV / "scenes" / "ycbv0000_000002.pcd"
     mesh = YCBV / "models" / "ycb_009_gelatin_box.ply"
@@ -100,8 +101,8 @@ def test_exact_mesh_is_the_tools(tool, tmp_path):
         return tracker.track(scene.xyz, scene.rgb, camera=scene.camera_pose).objects[0]
 
     assert first_frame().pose is not None
-    got = first_frame(exact_mesh=True)
-    (want,) = tool_track(tool, tmp_path, [frame], mesh, "--exact-mesh")
+    got = first_frame(depth_systematic=0.0)
+    (want,) = tool_track(tool, tmp_path, [frame], mesh, "--set", "depth_systematic=0")
     line = want["objects"][0]
     assert got.pose is None and line["pose"] is None
     assert got.state == line["state"] == "searching"
@@ -109,9 +110,9 @@ def test_exact_mesh_is_the_tools(tool, tmp_path):
 
 
 def test_a_refused_refinement_names_the_fit():
-    # Started at the annotated pose with the exact-mesh settings on the scanned gelatin box:
-    # the refinement's pose fits the real depth at 1.25-1.47 sigma (the mesh's 1-3 mm error),
-    # above those settings' 0.8, and the refusal says so; the default tracker keeps it.
+    # Started at the annotated pose, told that the camera has no low-frequency error: the
+    # refinement's pose fits the real depth at 1.25-1.47 pixel sigmas, above the limit 0.8, and
+    # the refusal says so; the default tracker (a real camera's error) keeps it.
     require(YCBV.is_dir(), f"{YCBV} not present")
     mesh = YCBV / "models" / "ycb_009_gelatin_box.ply"
     model = pcl_icf.Model.from_file(str(mesh))
@@ -127,7 +128,7 @@ def test_a_refused_refinement_names_the_fit():
 
     kept = tracked()
     assert kept.refined and kept.pose is not None, kept.message
-    refused = tracked(exact_mesh=True)
+    refused = tracked(depth_systematic=0.0)
     assert refused.refined and refused.pose is None
     assert "fits the depth at" in refused.refine_message, refused.refine_message
     assert 0.8 < refused.verification["residual"] < 1.5

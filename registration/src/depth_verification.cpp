@@ -25,13 +25,6 @@
 namespace pcl {
 namespace icf {
 
-DepthVerificationParams DepthVerificationParams::forExactMesh() {
-  DepthVerificationParams p;
-  p.fit_residual = kExactMeshFit;
-  p.max_residual = 2.0 * kExactMeshFit;
-  return p;
-}
-
 void DepthVerificationParams::validate() const {
   noise.validate();
   const internal::ParameterCheck fail("DepthVerificationParams");

@@ -141,8 +141,13 @@ TEST(DepthVerification, EdgeOffsetFactorAndItsAllowance) {
   p.mesh_accuracy = 0.002f;  // 2 mm at 1 m through a 525-pixel focal length: 1.05 pixels
   EXPECT_NEAR(p.allowedEdgeOffset(1.f, 525.f), p.edge_offset_pixels + 1.05, 1e-6);
   EXPECT_NEAR(p.allowedEdgeOffset(0.5f, 525.f), p.edge_offset_pixels + 2.1, 1e-6);
-  // The mesh's accuracy adds to the sensor's noise where the fit is judged.
-  EXPECT_NEAR(p.fitSigma(1.f), std::hypot(p.noise.sigma(1.f), 0.002f), 1e-7);
+  // The mesh's accuracy adds to the sensor's pixel noise and low-frequency error where the fit
+  // is judged, in quadrature.
+  EXPECT_NEAR(p.fitSigma(1.f),
+              std::sqrt(std::pow(p.noise.sigma(1.f), 2.f) +
+                        std::pow(p.noise.systematicError(1.f), 2.f) + 0.002f * 0.002f),
+              1e-7);
+  EXPECT_NEAR(p.noise.systematicError(2.f), 4.f * p.noise.systematic, 1e-9);
 }
 
 /** Box5 standing on a 1.2 x 0.8 m table 0.6 m below a camera tilted 45 degrees, no outliers;

@@ -338,6 +338,9 @@ TEST_F(Tool, EveryBadInputExitsTwoWithOneLine) {
   expectBadInput(scene + " " + mesh + " --inlier-distance nan", "--inlier-distance");
   expectBadInput(scene + " " + mesh + " --color 300,0,0", "--color");
   expectBadInput(scene + " " + mesh + " --json", "--json needs a value");
+  expectBadInput(scene + " " + mesh + " --mesh-accuracy 0.2", "mesh_accuracy");
+  // A removed option names what replaced it.
+  expectBadInput(scene + " " + mesh + " --exact-mesh", "--exact-mesh is gone");
   // The field registry's --set: kind, range and name, each naming the field.
   expectBadInput(scene + " " + mesh + " --set keep=2.5", "--set: keep: 2.5 is not a whole number");
   expectBadInput(scene + " " + mesh + " --set min_confidence=1.5",
@@ -681,7 +684,8 @@ TEST_F(Tool, ListFieldsPrintsTheRegistryWithItsDefaults) {
   EXPECT_NE(r.out.find("\nmin_confidence  real [0, 1] = 0.875  "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\nkeep  count [1, 10000000] = 12  "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\nstrategy  choice (fast|thesis) = fast  "), std::string::npos);
-  EXPECT_NE(r.out.find("\nfit_residual  real [0, inf] = 1.5  "), std::string::npos);
+  EXPECT_NE(r.out.find("\nfit_residual  real [0, inf] = 0.8  "), std::string::npos);
+  EXPECT_NE(r.out.find("\ndepth_systematic  real [0, 1] = 0.0025  "), std::string::npos);
 
   // --set reaches the run: the seed the JSON reports.
   const Result set = run(quote(demo("tabletop_box5.pcd")) + " " + quote(demo("box5.ply")) +

@@ -129,25 +129,25 @@ const Kind kKinds[] = {
      "# TARGET ABSENT (truth=none): each scene is a whole organized frame (x y z rgb, table\n"
      "# included) holding a shape similar to the asked-for model, never the model itself.\n"
      "# A pose claimed here is a false pose. For the scene-level method:\n"
-     "#   pcl_icf_bench --methods icf-scene THIS_MANIFEST\n"
+     "#   pcl_icf_bench --methods icf-scene --tuning depth_systematic=0 THIS_MANIFEST\n"
      "# (cluster=all is the whole frame: the cluster methods are not run on these cases).\n"},
     {"present", 30, Writer::Groups,
      "# TARGET PRESENT beside a similar shape of its colour: each scene is a whole organized\n"
      "# frame (x y z rgb, table included). For the scene-level method:\n"
-     "#   pcl_icf_bench --methods icf-scene THIS_MANIFEST\n"},
+     "#   pcl_icf_bench --methods icf-scene --tuning depth_systematic=0 THIS_MANIFEST\n"},
     {"clutter", 30, Writer::Desks,
      "# CLUTTERED DESKS: 10-25 objects touching, stacked, more on a shelf behind;\n"
      "# Kinect v1 holes and flying pixels along depth edges. Whole organized frames (x y z\n"
      "# rgb). K_NNN: the target's part in view 30-100% visible, group by the share of the\n"
      "# whole target seen, the part beyond the frame unseen (K-v0-30, K-v30-50, K-v50-75,\n"
      "# K-v75-100); K_NNN_absent: the same desk without it (truth=none, a pose is false).\n"
-     "#   pcl_icf_bench --methods icf-scene THIS_MANIFEST\n"},
+     "#   pcl_icf_bench --methods icf-scene --tuning depth_systematic=0 THIS_MANIFEST\n"},
     {"desk", 30, Writer::Desks,
      "# REAL-LIKE DESKS: 15-25 objects touching, stacked, more on a shelf behind, the target\n"
      "# 0.6-1.6 m away; Kinect v1 structured-light noise (quantised disparity) and edge\n"
      "# artefacts. D_NNN: groups by range and the share of the whole target seen\n"
      "# (D-r0.6-0.9-v50-75, ...); D_NNN_absent: the same desk without it (truth=none).\n"
-     "#   pcl_icf_bench --methods icf-scene --exact-mesh THIS_MANIFEST\n"},
+     "#   pcl_icf_bench --methods icf-scene --tuning depth_systematic=0 THIS_MANIFEST\n"},
     {"sequence", 1, Writer::Sequences, ""},
 };
 

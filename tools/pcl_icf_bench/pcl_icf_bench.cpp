@@ -29,9 +29,8 @@
 //                          refine_points, pp_kept, pp_per_place, pp_references,
 //                          pp_reference_share, pp_rescored, pp_peaks, pp_spread, ...; --tuning
 //                          also takes the models' point pair table: pp_step, pp_coplanar, pp_cap
-//     --exact-mesh         icf-scene with the tool's --exact-mesh settings
-//                          (LocalizerParams::useExactMeshSettings); --icf and --verification
-//                          fields given with it win
+//                          and the camera's: depth_systematic=0 for the simulated scenes of
+//                          pcl_icf_make_dataset (no low-frequency depth error)
 //     --repeat N           run every method N times per case and report the median time
 //                          (the poses are identical: every method is seeded); icf-thesis
 //                          runs once. For small suites on a busy machine.
@@ -144,9 +143,6 @@ struct Options {
   std::vector<std::pair<std::string, double>> icf_fields, verification_fields, tuning_fields;
   /** The models' preparation: --tuning's pp_step and pp_coplanar. */
   pcl::icf::IcfModelParams model_params;
-  /** --exact-mesh: icf-scene starts from LocalizerParams::useExactMeshSettings instead of the
-   * localizer's defaults. */
-  bool exact_mesh = false;
   std::string command_line = "pcl_icf_bench";
 };
 
@@ -155,7 +151,7 @@ int usage(const char* program) {
                "Usage: %s [--out DIR] [--plots DIR] [--name NAME] [--methods A,B]\n"
                "          [--thesis-cases N] [--limit N] [--threads N] [--ia-iterations N]\n"
                "          [--sac K=V,...] [--icf K=V,...] [--verification K=V,...]\n"
-               "          [--tuning K=V,...] [--exact-mesh] [--repeat N] [--no-plots]\n"
+               "          [--tuning K=V,...] [--repeat N] [--no-plots]\n"
                "          [--scene-min-confidence C] [--ppf-sampling S] MANIFEST...\n"
                "       %s --bop ROOT [--split S] [--targets FILE] [--out DIR] [--threads N]\n"
                "          [--models DIR] [--seed S] [--vsd-delta MM] [--shard K/N | --merge]\n"
@@ -289,10 +285,11 @@ bool parseOptions(int argc, char** argv, Options& o) {
           o.tuning_fields.emplace_back(key, value);
       }
       o.model_params.point_pairs.validate();
-    } else if (arg == "--exact-mesh") {
-      args.noValue(arg);
-      o.exact_mesh = true;
-    } else if (arg == "--ppf-sampling")
+    } else if (arg == "--exact-mesh")
+      throw UsageError(
+          "--exact-mesh is gone: one rule verifies every mesh; for the simulated scenes of "
+          "pcl_icf_make_dataset give --tuning depth_systematic=0");
+    else if (arg == "--ppf-sampling")
       o.ppf_sampling = parseNumber(arg, args.value(arg));
     else if (arg == "--scene-min-confidence")
       o.scene_min_confidence = parseNumber(arg, args.value(arg));
@@ -318,11 +315,10 @@ bool parseOptions(int argc, char** argv, Options& o) {
   icfParams(o).validate();  // the --icf fields' names and ranges, before any case runs
   const bool scene_method =
       std::find(o.methods.begin(), o.methods.end(), kSceneMethod) != o.methods.end();
-  if ((o.exact_mesh || !o.verification_fields.empty() || !o.tuning_fields.empty()) && !scene_method)
+  if ((!o.verification_fields.empty() || !o.tuning_fields.empty()) && !scene_method)
     throw std::invalid_argument(
-        "--exact-mesh, --verification and --tuning are for icf-scene: add it to "
-        "--methods");
-  sceneParams(o).validate();  // --verification's fields, --exact-mesh with those given beside it
+        "--verification and --tuning are for icf-scene: add it to --methods");
+  sceneParams(o).validate();  // --verification's and --tuning's fields
   if (o.plot_dir.empty())
     o.plot_dir = o.out_dir;
   if (o.name.empty())
@@ -353,12 +349,10 @@ struct CaseInput {
   SceneInput scene;
 };
 
-/** icf-scene's parameters: the localizer's defaults (with --exact-mesh, its settings) with the
+/** icf-scene's parameters: the localizer's defaults with the
  * bench's threads, SAC, --icf and --verification fields on top. */
 pcl::icf::localization::LocalizerParams sceneParams(const Options& o) {
   pcl::icf::localization::LocalizerParams p;
-  if (o.exact_mesh)
-    p.useExactMeshSettings();
   p.threads = o.threads;
   p.tuning().icf.sac = o.sac;
   const auto& fields = pcl::icf::localization::localizerFields();

@@ -304,10 +304,8 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
   auto& p = o.params;
   std::vector<std::string> positional;
   bool idle_given = false;
-  // --exact-mesh sets keep too; a --keep given anywhere wins.
-  bool exact_mesh = false;
   std::optional<std::size_t> keep;
-  std::vector<std::string> sets;  // --set's, applied last: they win over --exact-mesh
+  std::vector<std::string> sets;  // --set's, applied last: they win over the options
   ArgumentReader args(argc, argv);
   while (!args.done()) {
     const std::string a = args.next();
@@ -324,10 +322,14 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
       keep = static_cast<std::size_t>(parseInteger(a, args.value(a), 1, 10000));
     else if (a == "--set")
       sets.push_back(args.value(a));
-    else if (a == "--exact-mesh") {
-      args.noValue(a);
-      exact_mesh = true;
-    } else if (a == "--units")
+    else if (a == "--mesh-accuracy")
+      p.mesh_accuracy = static_cast<float>(parseNumber(a, args.value(a)));
+    else if (a == "--exact-mesh")
+      throw UsageError(
+          "--exact-mesh is gone: one rule verifies every mesh. A mesh that differs from the "
+          "object: --mesh-accuracy M (metres); a simulated camera without low-frequency depth "
+          "error: --set depth_systematic=0");
+    else if (a == "--units")
       o.units = parseUnits(a, args.value(a));
     else if (a == "--model-units")
       o.model_units = parseUnits(a, args.value(a));
@@ -402,8 +404,6 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
   }
 
   checkMode(o, positional, idle_given);
-  if (exact_mesh)
-    p.useExactMeshSettings();
   if (keep)
     p.tuning().icf.global.keep = *keep;
   for (const std::string& text : sets)
@@ -421,7 +421,6 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
 std::string usageText(const std::string& program) {
   const ToolOptions d;
   const auto& p = d.params;
-  const auto exact = pcl::icf::DepthVerificationParams::forExactMesh();
   std::ostringstream u;
   u << "Finds the 6D pose of a CAD mesh in a depth scan by Iterative Closest Face.\n"
     << "\n"
@@ -496,20 +495,12 @@ std::string usageText(const std::string& program) {
     << "    --min-confidence C       = accept a pose whose verification confidence reaches C\n"
     << "                               (default: " << p.min_confidence << ")\n"
     << "    --keep N                 = search hypotheses refined per cluster (default: "
-    << p.tuning().icf.global.keep << ", with\n"
-    << "                               --exact-mesh "
-    << pcl::icf::localization::LocalizerParams::kExactMeshKeep
-    << "; more find more partly hidden targets on a\n"
-    << "                               cluttered desk, and more look-alikes)\n"
-    << "    --exact-mesh             = the mesh is the object itself (CAD, synthetic): a pose\n"
-    << "                               must fit the depth as closely as the sensor measures\n"
-    << "                               (residual limits " << exact.fit_residual << " / "
-    << exact.max_residual << " sigma instead of " << p.tuning().verification.fit_residual << " / "
-    << p.tuning().verification.max_residual << ", for scanned\n"
-    << "                               meshes), and "
-    << pcl::icf::localization::LocalizerParams::kExactMeshKeep
-    << " hypotheses are kept: the close fit refuses\n"
-    << "                               the look-alikes more hypotheses bring\n"
+    << p.tuning().icf.global.keep << "; more find more partly hidden\n"
+    << "                               targets on a cluttered desk, and more look-alikes)\n"
+    << "    --mesh-accuracy M        = how far the mesh's surface may lie from the object's,\n"
+    << "                               metres (default: " << p.mesh_accuracy
+    << ": a CAD model or an accurate\n"
+    << "                               scan); a coarser mesh is forgiven that much misfit\n"
     << "    --max-instances N        = report up to N instances of the object, best first,\n"
     << "                               each scene point in one at most (default: "
     << p.max_instances << ")\n"

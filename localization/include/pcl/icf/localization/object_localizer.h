@@ -75,6 +75,11 @@ struct LocalizerParams {
    * (DepthVerificationParams::mesh_accuracy); a value larger than the mesh's real error lets
    * a look-alike that many millimetres off pass. */
   float mesh_accuracy = 0.f;
+  /** The camera's depth noise: sigma(z) of a pixel and the low-frequency error over an
+   * object's extent, both growing with z^2 (DepthNoiseModel; a Kinect v1 or Xtion by default).
+   * A simulated camera without low-frequency error: depth_noise.systematic = 0; a
+   * time-of-flight camera: coefficient 0 and its constant noise as the floor. */
+  DepthNoiseModel depth_noise;
   /** The search of a hypothesis (IcfParams::strategy). */
   SearchStrategy strategy = IcfParams{}.strategy;
   /** The SampleConsensus (FPFH) alignment as a fallback (IcfParams::fallback). */
@@ -105,15 +110,6 @@ struct LocalizerParams {
    * the scene. */
   std::vector<int> explained_indices;
 
-  /** \brief Switches to the settings for a mesh that is the object itself (a CAD model of a
-   * manufactured part, a synthetic suite's mesh): the verification's exact-mesh residual
-   * limits (DepthVerificationParams::forExactMesh), which refuse look-alikes a few
-   * millimetres off, and kExactMeshKeep search hypotheses per cluster (doc/TUNING.md, "An
-   * exact mesh"). It overwrites tuning().icf.global.keep, tuning().verification.fit_residual
-   * and tuning().verification.max_residual: set your own values of those after it. */
-  void useExactMeshSettings();
-  static constexpr std::size_t kExactMeshKeep = 24;
-
   /** The calibration constants (LocalizerTuning): the one door to them, for calibration runs
    * and comparisons. */
   LocalizerTuning& tuning() { return tuning_; }
@@ -124,7 +120,7 @@ struct LocalizerParams {
   /** What the scene is segmented with: tuning().segmentation with this struct's cluster. */
   segmentation::TabletopParams segmentationParams() const;
   /** What every pose is verified with: tuning().verification with this struct's
-   * mesh_accuracy. */
+   * mesh_accuracy and depth_noise. */
   DepthVerificationParams verificationParams() const;
 
   /** \throws std::invalid_argument naming the field. */

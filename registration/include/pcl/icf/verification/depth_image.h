@@ -39,7 +39,8 @@ struct PinholeIntrinsics {
 };
 
 /** \brief The depth noise of the sensor: the standard deviation of a depth measurement at
- * depth z, sigma(z) = max(floor, coefficient * z^2). Structured-light and stereo sensors
+ * depth z, sigma(z) = max(floor, coefficient * z^2), and its low-frequency error over an
+ * object's extent, systematic * z^2. Structured-light and stereo sensors
  * (Kinect v1, Xtion, RealSense) grow with z^2: Khoshelham and Elberink (2012) measure about
  * 1.4e-3 z^2 m for the Kinect v1, whose disparity is quantised in 1/8 pixel steps of about
  * 2.9e-3 z^2 m. Lengths in metres. */
@@ -50,9 +51,10 @@ struct DepthNoiseModel {
    * object's extent (its calibration's residual distortion: a real table near 1 m bends by
    * millimetres, and a right pose's surface differs from the measured one by as much). It
    * does not widen what a pixel's depth supports (sigma); it is what a right pose's fit may
-   * show beyond the pixel noise (DepthVerificationParams::fitSigma). A simulated sensor
-   * without such an error: 0. */
-  float systematic = 0.f;
+   * show beyond the pixel noise (DepthVerificationParams::fitSigma). 2.5e-3: the right poses
+   * of the real YCB-Video frames (an Xtion, 0.55 m and 1 m; doc/TUNING.md); a simulated
+   * sensor without such an error: 0. */
+  float systematic = 2.5e-3f;
 
   float sigma(float z) const { return std::max(floor, coefficient * z * z); }
   /** The low-frequency error at depth \a z: systematic * z^2. */

@@ -71,15 +71,15 @@ struct DepthVerificationParams {
    * lower the confidence in proportion (a target 20% visible at 0.4 keeps half of it), so a
    * pose is accepted (min_confidence 0.875) only with 35% of its pixels supported. */
   double full_evidence = 0.4;
-  /** A right pose fits the measured depth about as closely as the sensor measures, a model
-   * laid on an object of another size or shape (a 5 cm can posed on a 4.5 cm one) inside the
-   * support tolerance but 2-3 sigma off it. Up to fit_residual (DepthExplanation::residual,
-   * the RMS offset in units of sigma(z)) the confidence does not depend on the residual;
-   * beyond, it falls linearly and reaches 0 at max_residual (infinity: off). The defaults
-   * are for scanned meshes, which fit real depth less closely than the sensor measures
-   * (doc/TUNING.md, "The depth verification"). */
-  double fit_residual = 1.5;
-  double max_residual = 3.5;
+  /** A right pose fits the measured depth about as closely as the sensor measures and the mesh
+   * is made (fitSigma), a model laid on an object of another size or shape (a 5 cm can posed
+   * on a 4.5 cm one) inside the support tolerance but further off. Up to fit_residual
+   * (DepthExplanation::residual, the RMS offset in units of fitSigma(z)) the confidence does
+   * not depend on the residual; beyond, it falls linearly and reaches 0 at max_residual
+   * (infinity: off). One rule for every mesh and sensor: the mesh's accuracy and the sensor's
+   * low-frequency error are in fitSigma (doc/TUNING.md, "The depth verification"). */
+  double fit_residual = 0.8;
+  double max_residual = 1.6;
   /** Where the scene's occluding edge lies beside the model's silhouette, averaged over the
    * silhouette (DepthExplanation::silhouette_offset, pixels): a right pose puts it on the
    * silhouette within the sensor's and the rasterisation's uncertainty of an edge, about half
@@ -103,15 +103,6 @@ struct DepthVerificationParams {
    * the fit is judged (fitSigma: a right pose fits the depth that much less closely) and to
    * where the silhouette may lie (allowedEdgeOffset). */
   float mesh_accuracy = 0.f;
-
-  /** The limits for a mesh that is the object itself (a CAD model of a manufactured part, a
-   * synthetic suite's meshes): a right pose then fits as closely as the sensor measures and a
-   * look-alike a few millimetres off (a can standing on a box posed as a taller can) does
-   * not. fit_residual kExactMeshFit, max_residual twice that; everything else as the
-   * defaults. On a scanned mesh these limits refuse right poses (doc/TUNING.md, "The depth
-   * verification"). */
-  static DepthVerificationParams forExactMesh();
-  static constexpr double kExactMeshFit = 0.8;
 
   /** The support tolerance at depth \a z for a model of \a diameter: noise_sigmas x sigma(z)
    * + size_tolerance x diameter. A measured depth this close to the model's surface (along
@@ -298,9 +289,8 @@ DepthExplanation explainDepth(const ModelDepth& rendered, const DepthImage& imag
  * sentence: "confidence 0.62 < 0.875: explains 81% of the visible model, 2% seen through, 0%
  * beneath the table, 90% of its silhouette continues, 97% of it supported", then the share beyond
  * the image's border when there is one, and how the fit lowered the confidence when it did ("and
- * fits the depth at 1.41 sigma, full confidence up to 0.8", \a params' fit_residual: exact-mesh
- * limits on a scanned mesh explain themselves). Every refusal of a depth explanation (the
- * localizer's, the tracker's) says it in these words. */
+ * fits the depth at 1.41 sigma, full confidence up to 0.8", \a params' fit_residual). Every refusal
+ * of a depth explanation (the localizer's, the tracker's) says it in these words. */
 std::string describeRefusal(const DepthExplanation& explanation, double min_confidence,
                             const DepthVerificationParams& params);
 

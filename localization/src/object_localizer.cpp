@@ -218,7 +218,7 @@ std::string searchRound(const SceneView& view, const std::vector<pcl::PointIndic
   const PointPairScene scene = votingScene(view, usable, model, hp, threads);
   std::vector<Candidate> candidates;
   if (hp.point_pairs)
-    candidates = votedCandidates(model, scene, hp, threads);
+    candidates = votedCandidates(model, scene, image, hp, threads);
   // A model with no point pair worth voting with (a flat plate, a model smaller than a few
   // sampling steps) is searched for in the clusters.
   if (hp.clusters || model.pointPairs().pairs() == 0) {

@@ -93,9 +93,11 @@ PointPairScene votingScene(const internal::SceneView& view, const std::vector<bo
 }
 
 std::vector<Candidate> votedCandidates(const IcfModel& model, const PointPairScene& scene,
-                                       const SceneHypotheses& params, int threads) {
+                                       const DepthImage& image, const SceneHypotheses& params,
+                                       int threads) {
   std::vector<Candidate> out;
-  for (const VotedPose& v : voteForPoses(model, scene, params.voting, threads)) {
+  for (const VotedPose& v :
+       voteForPoses(model, scene, params.voting, threads, image.empty() ? nullptr : &image)) {
     Candidate c;
     c.model_to_camera = v.model_to_camera;
     c.source.votes = v.votes;

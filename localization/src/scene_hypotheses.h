@@ -63,9 +63,11 @@ std::vector<bool> candidatePoints(const internal::SceneView& view,
 PointPairScene votingScene(const internal::SceneView& view, const std::vector<bool>& usable,
                            const IcfModel& model, const SceneHypotheses& params, int threads);
 
-/** The poses \a scene votes for (voteForPoses), as candidates to refine. */
+/** The poses \a scene votes for (voteForPoses, re-scored against \a image), as candidates to
+ * refine. */
 std::vector<Candidate> votedCandidates(const IcfModel& model, const PointPairScene& scene,
-                                       const SceneHypotheses& params, int threads);
+                                       const DepthImage& image, const SceneHypotheses& params,
+                                       int threads);
 
 /** The best per_cluster hypotheses of each cluster's search (globalSearch on its usable points,
  * seeded per cluster), clusters searched in parallel, each into its own slot. */

@@ -48,6 +48,8 @@ void DepthVerificationParams::validate() const {
     fail("max_continuation", max_continuation, "must lie in (0, 1]");
   if (!(full_evidence > 0.0 && full_evidence <= 1.0))
     fail("full_evidence", full_evidence, "must lie in (0, 1]");
+  if (!(out_of_view_evidence >= 0.0 && std::isfinite(out_of_view_evidence)))
+    fail("out_of_view_evidence", out_of_view_evidence, "must be finite and not negative");
   if (!(fit_residual >= 0.0 && std::isfinite(fit_residual)))
     fail("fit_residual", fit_residual, "must be finite and not negative");
   if (!(max_residual > fit_residual))
@@ -857,7 +859,7 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
   e.confidence =
       std::max(0.0, 1.0 - (1.0 - e.visible_support) / params.max_conflict) *
       std::max(0.0, 1.0 - e.silhouette_continuation / params.max_continuation) *
-      std::min(1.0, e.supported / params.full_evidence) * params.residualFactor(e.residual) *
+      params.evidenceFactor(e.supported, e.out_of_view) * params.residualFactor(e.residual) *
       params.edgeOffsetFactor(e.silhouette_offset, e.silhouette_edges, e.allowed_offset) *
       params.sinkFactor(e.sunk_into_support, e.support_tolerance);
   return e;

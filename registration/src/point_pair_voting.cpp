@@ -98,6 +98,10 @@ void PointPairVotingParams::validate() const {
     fail("rescore_distance", rescore_distance, "must lie in (0, 10]");
   if (!(rescore_angle_deg > 0.f && rescore_angle_deg <= 180.f))
     fail("rescore_angle_deg", rescore_angle_deg, "must lie in (0, 180]");
+  if (!(rescore_hidden_distance > 0.f && std::isfinite(rescore_hidden_distance)))
+    fail("rescore_hidden_distance", rescore_hidden_distance, "must be positive and finite");
+  if (!(rescore_min_share >= 0.f && rescore_min_share <= 1.f))
+    fail("rescore_min_share", rescore_min_share, "must lie in [0, 1]");
   if (kept < 1)
     fail("kept", kept, "must be >= 1");
   if (kept_per_place < 1)
@@ -608,19 +612,27 @@ class SceneGrid {
 };
 
 /** The model samples that face the camera at \a pose and that the scene explains (SceneGrid),
- * and how many face it. */
+ * how many face it and, with \a image, how many of the unexplained ones the scene hides (its
+ * depth at the sample's pixel more than \a hidden in front of it). */
 std::size_t explainedSamples(const PointPairModel& model, const Eigen::Isometry3f& pose,
                              const SceneGrid& grid, float distance, float cos_max,
-                             std::size_t& facing) {
+                             const DepthImage* image, float hidden, std::size_t& facing,
+                             std::size_t& hidden_samples) {
   std::size_t explained = 0;
-  facing = 0;
+  facing = hidden_samples = 0;
   for (std::size_t i = 0; i < model.points().size(); ++i) {
     const Eigen::Vector3f p = pose * model.points()[i];
     const Eigen::Vector3f n = pose.linear() * model.normals()[i];
     if (!(n.dot(p) < 0.f))
       continue;
     ++facing;
-    explained += grid.explains(p, n, distance, cos_max);
+    if (grid.explains(p, n, distance, cos_max)) {
+      ++explained;
+      continue;
+    }
+    int u = 0, v = 0;
+    if (image && image->pixelOf(p, u, v) && image->depth(u, v) < p.z() - hidden)
+      ++hidden_samples;
   }
   return explained;
 }
@@ -638,7 +650,8 @@ bool posesShareSurface(const IcfModel& model, const Eigen::Isometry3f& a,
 }
 
 std::vector<VotedPose> voteForPoses(const IcfModel& model, const PointPairScene& scene,
-                                    const PointPairVotingParams& params, int threads) {
+                                    const PointPairVotingParams& params, int threads,
+                                    const DepthImage* image) {
   params.validate();
   const PointPairModel& table = model.pointPairs();
   std::vector<VotedPose> result;
@@ -696,6 +709,7 @@ std::vector<VotedPose> voteForPoses(const IcfModel& model, const PointPairScene&
   const SceneGrid grid(scene);
   const float distance = params.rescore_distance * table.step();
   const float cos_max = std::cos(params.rescore_angle_deg * kPi / 180.f);
+  const float hidden_distance = params.rescore_hidden_distance * table.step();
   std::vector<VotedPose> rescored(clusters.size());
   const int m = static_cast<int>(clusters.size());
 #pragma omp parallel for schedule(dynamic, 4) num_threads(std::max(1, threads))
@@ -703,10 +717,12 @@ std::vector<VotedPose> voteForPoses(const IcfModel& model, const PointPairScene&
     VotedPose& v = rescored[static_cast<std::size_t>(c)];
     v.model_to_camera = clusters[static_cast<std::size_t>(c)].pose;
     v.votes = clusters[static_cast<std::size_t>(c)].votes;
-    std::size_t facing = 0;
-    v.explained_samples =
-        explainedSamples(table, v.model_to_camera, grid, distance, cos_max, facing);
+    std::size_t facing = 0, hidden = 0;
+    v.explained_samples = explainedSamples(table, v.model_to_camera, grid, distance, cos_max, image,
+                                           hidden_distance, facing, hidden);
     v.explained = facing > 0 ? static_cast<double>(v.explained_samples) / facing : 0.0;
+    if (image && facing > hidden)
+      v.explained_visible = static_cast<double>(v.explained_samples) / (facing - hidden);
   }
   std::stable_sort(rescored.begin(), rescored.end(), [](const VotedPose& a, const VotedPose& b) {
     return a.explained_samples > b.explained_samples;
@@ -716,24 +732,38 @@ std::vector<VotedPose> voteForPoses(const IcfModel& model, const PointPairScene&
   // better one's), so that a second object, or a second copy, is voted for too.
   std::vector<Eigen::Vector3f> places;
   std::vector<std::size_t> at_place;
-  for (const VotedPose& v : rescored) {
-    if (result.size() >= params.kept)
-      break;
-    if (tolerance > 0.f && std::any_of(result.begin(), result.end(), [&](const VotedPose& k) {
-          return posesShareSurface(model, v.model_to_camera, k.model_to_camera, tolerance);
-        }))
-      continue;
-    const Eigen::Vector3f c = v.model_to_camera * centre;
-    std::size_t place = 0;
-    while (place < places.size() && (places[place] - c).norm() > 0.25f * table.diameter())
-      ++place;
-    if (place == places.size()) {
-      places.push_back(c);
-      at_place.push_back(0);
+  const auto keep = [&](const std::vector<VotedPose>& ranked, std::size_t limit) {
+    for (const VotedPose& v : ranked) {
+      if (result.size() >= limit)
+        break;
+      if (tolerance > 0.f && std::any_of(result.begin(), result.end(), [&](const VotedPose& k) {
+            return posesShareSurface(model, v.model_to_camera, k.model_to_camera, tolerance);
+          }))
+        continue;
+      const Eigen::Vector3f c = v.model_to_camera * centre;
+      std::size_t place = 0;
+      while (place < places.size() && (places[place] - c).norm() > 0.25f * table.diameter())
+        ++place;
+      if (place == places.size()) {
+        places.push_back(c);
+        at_place.push_back(0);
+      }
+      if (at_place[place]++ >= params.kept_per_place)
+        continue;
+      result.push_back(v);
     }
-    if (at_place[place]++ >= params.kept_per_place)
-      continue;
-    result.push_back(v);
+  };
+  keep(rescored, params.kept);
+  if (image && params.kept_visible > 0) {
+    // Then the poses that explain most of what they show: a target half hidden by others.
+    std::vector<VotedPose> by_share;
+    for (const VotedPose& v : rescored)
+      if (v.explained >= params.rescore_min_share)
+        by_share.push_back(v);
+    std::stable_sort(by_share.begin(), by_share.end(), [](const VotedPose& a, const VotedPose& b) {
+      return a.explained_visible > b.explained_visible;
+    });
+    keep(by_share, result.size() + params.kept_visible);
   }
   return result;
 }

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <random>
 #include <set>
@@ -235,6 +236,67 @@ TEST(VoteForPoses, FindsABoxAloneFirst) {
     EXPECT_TRUE(capped[k].model_to_camera.isApprox(free[k].model_to_camera, 0.f)) << k;
 }
 
+// The box half hidden behind a board nearer the camera, beside two big boxes: with the scene's
+// depth image, voteForPoses keeps its best `kept` (3) by explained samples exactly as without,
+// then adds up to kept_visible more, best first by the share of what they show that the scene
+// explains (each explaining at least rescore_min_share of its facing samples). Only the added
+// ones reach the refinement's basin of the box's true pose (the ray caster's; the same
+// tolerance as above).
+TEST(VoteForPoses, AddsThePosesThatExplainWhatTheyShow) {
+  const synthetic::SyntheticModel box = synthetic::thesisModel("Box5");
+  const pcl::PolygonMesh board = synthetic::makeBox(0.2, 0.4, 0.01);
+  const pcl::PolygonMesh big = synthetic::makeBox(0.25, 0.2, 0.15);
+  const IcfModel::ConstPtr model = IcfModel::build(box.mesh);
+  std::vector<synthetic::SceneObject> objects(4);
+  objects[0].mesh = &box.mesh;
+  objects[0].pose.linear() = (Eigen::AngleAxisd(0.6, Eigen::Vector3d::UnitX()) *
+                              Eigen::AngleAxisd(-0.4, Eigen::Vector3d::UnitY()))
+                                 .toRotationMatrix();
+  objects[0].pose.translation() = Eigen::Vector3d(0.03, -0.02, 0.8);
+  objects[1].mesh = &board;
+  objects[1].pose.translation() = Eigen::Vector3d(-0.1, -0.015, 0.6);
+  objects[2].mesh = objects[3].mesh = &big;
+  objects[2].pose.translation() = Eigen::Vector3d(-0.35, 0.05, 0.95);
+  objects[3].pose.translation() = Eigen::Vector3d(0.25, 0.1, 1.0);
+  synthetic::ScanNoise noise;
+  noise.seed = 11;
+  const synthetic::Scan scan = synthetic::renderScan(objects, synthetic::CameraIntrinsics(), noise);
+  const std::vector<Eigen::Vector3f> points = synthetic::scanPoints(scan);
+  std::vector<int> eligible;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (std::isfinite(points[i].z()))
+      eligible.push_back(static_cast<int>(i));
+  const PointPairScene scene = subsampleForVoting(points, eligible, model->pointPairs().step(),
+                                                  2 * model->pointPairs().step(), 2);
+  const DepthImage image(points, PinholeIntrinsics());
+  PointPairVotingParams params;
+  params.kept = 3;
+  params.kept_visible = 10;
+  const std::vector<VotedPose> alone = voteForPoses(*model, scene, params, 2);
+  const std::vector<VotedPose> voted = voteForPoses(*model, scene, params, 2, &image);
+  ASSERT_GE(voted.size(), alone.size());
+  ASSERT_LE(voted.size(), alone.size() + params.kept_visible);
+  for (std::size_t k = 0; k < alone.size(); ++k)
+    EXPECT_TRUE(voted[k].model_to_camera.isApprox(alone[k].model_to_camera, 0.f)) << k;
+  for (std::size_t k = alone.size(); k < voted.size(); ++k) {
+    EXPECT_GE(voted[k].explained, params.rescore_min_share) << k;
+    EXPECT_GE(voted[k].explained_visible, voted[k].explained) << k;
+    if (k + 1 < voted.size()) {
+      EXPECT_GE(voted[k].explained_visible, voted[k + 1].explained_visible) << k;
+    }
+  }
+  const auto nearTheBox = [&](const VotedPose& v) {
+    const synthetic::PoseError e =
+        synthetic::poseError(v.model_to_camera.cast<double>(), objects[0].pose, box.symmetry);
+    return e.translation < 2 * model->pointPairs().step() && e.rotation_deg < 15.0;
+  };
+  // The scene this test is about: by explained samples alone, the big boxes' faces outrank
+  // every pose on the half-hidden box.
+  EXPECT_FALSE(std::any_of(alone.begin(), alone.end(), nearTheBox));
+  EXPECT_TRUE(std::any_of(voted.begin(), voted.end(), nearTheBox))
+      << "no hypothesis near the hidden box";
+}
+
 TEST(PointPairParams, RejectsOutOfRangeFields) {
   PointPairModelParams m;
   m.angle_bins = 40;  // more than the 32 flags a word holds
@@ -247,6 +309,12 @@ TEST(PointPairParams, RejectsOutOfRangeFields) {
   EXPECT_THROW(v.validate(), std::invalid_argument);
   v = {};
   v.max_pairs_discs = 0.5f;  // less than one disc would thin out a camera's view
+  EXPECT_THROW(v.validate(), std::invalid_argument);
+  v = {};
+  v.rescore_min_share = 1.5f;
+  EXPECT_THROW(v.validate(), std::invalid_argument);
+  v = {};
+  v.rescore_hidden_distance = std::numeric_limits<float>::infinity();
   EXPECT_THROW(v.validate(), std::invalid_argument);
 }
 

@@ -20,6 +20,7 @@
  * model -> camera. Lengths in the scene's units (metres). */
 
 #include <pcl/icf/registration/face_mesh.h>
+#include <pcl/icf/verification/depth_image.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -177,6 +178,15 @@ struct PointPairVotingParams {
    * place (every one of 64 samples within distinct_surface x the diameter of the other's
    * surface: a can's spins are one hypothesis). */
   std::size_t kept = 12;
+  /** With the scene's depth image (voteForPoses' \a image), up to this many more hypotheses,
+   * best first by the share of the facing samples the scene explains among those it does not
+   * hide (samples whose pixel shows something more than rescore_hidden_distance x the sampling
+   * step in front): a target half hidden behind its neighbours explains few samples and is
+   * outranked by poses on larger, wholly visible objects, but explains most of what it shows.
+   * Poses that explain fewer than rescore_min_share of their facing samples are not taken. */
+  std::size_t kept_visible = 0;
+  float rescore_hidden_distance = 2.f;
+  float rescore_min_share = 0.2f;
   float distinct_surface = 0.05f;
   /** At most this many of the hypotheses returned put the model's centre at one place (within
    * a quarter of the diameter of a better one's): a second object is hypothesised too. */
@@ -197,6 +207,9 @@ struct VotedPose {
    * on them (the re-score), in [0, 1]. */
   double explained = 0.0;
   std::size_t explained_samples = 0;  ///< their number (what hypotheses are ranked by)
+  /** With a depth image: explained_samples over the facing samples the scene does not hide
+   * (the kept_visible ranking); 0 without. */
+  double explained_visible = 0.0;
 };
 
 /** \brief The scene as the voting reads it: subsampled points with unit normals facing the
@@ -228,10 +241,13 @@ bool posesShareSurface(const IcfModel& model, const Eigen::Isometry3f& a,
  * step): every reference pairs with each scene point within the model's diameter, looks its
  * feature up in the model's table and votes for (model reference, angle); each reference's
  * peaks become poses, which are clustered, re-scored as the camera sees them and returned best
- * first (at most params.kept). Deterministic and independent of \a threads. Empty when the
- * model has no table or the scene no point. */
+ * first (at most params.kept), then, with \a image (the scene's depth image, the same camera
+ * frame), up to params.kept_visible more, best first by the share of what they show that the
+ * scene explains. Deterministic and independent of \a threads. Empty when the model has no
+ * table or the scene no point. */
 std::vector<VotedPose> voteForPoses(const IcfModel& model, const PointPairScene& scene,
-                                    const PointPairVotingParams& params = {}, int threads = 1);
+                                    const PointPairVotingParams& params = {}, int threads = 1,
+                                    const DepthImage* image = nullptr);
 
 }  // namespace icf
 }  // namespace pcl

@@ -68,9 +68,14 @@ struct DepthVerificationParams {
    * at this share. */
   double max_continuation = 0.2;
   /** Share of the model's rendered pixels that must be supported for full evidence; fewer
-   * lower the confidence in proportion (a target 20% visible at 0.4 keeps half of it), so a
-   * pose is accepted (min_confidence 0.875) only with 35% of its pixels supported. */
-  double full_evidence = 0.4;
+   * lower the confidence in proportion (a target 15% visible at 0.3 keeps half of it), so a
+   * pose is accepted (min_confidence 0.875) only with 26% of its pixels supported. */
+  double full_evidence = 0.3;
+  /** The part of the model beyond the image's border raises the share needed: full evidence
+   * at full_evidence x (1 + out_of_view_evidence x out_of_view). An occluded part is bounded
+   * by the occluder's edge in the image; a part beyond the border by nothing, so a pose
+   * mostly outside the image (a box laid on a face the image cuts off) needs more support. */
+  double out_of_view_evidence = 1.0;
   /** A right pose fits the measured depth about as closely as the sensor measures and the mesh
    * is made (fitSigma), a model laid on an object of another size or shape (a 5 cm can posed
    * on a 4.5 cm one) inside the support tolerance but further off. Up to fit_residual
@@ -118,6 +123,13 @@ struct DepthVerificationParams {
   float fitSigma(float z) const {
     const float s = noise.sigma(z), d = noise.systematicError(z);
     return std::sqrt(s * s + d * d + mesh_accuracy * mesh_accuracy);
+  }
+
+  /** The confidence's factor for a pose whose \a supported share of pixels the depth supports
+   * while \a out_of_view of them lie beyond the image's border: min(1, supported /
+   * (full_evidence x (1 + out_of_view_evidence x out_of_view))). */
+  double evidenceFactor(double supported, double out_of_view) const {
+    return std::min(1.0, supported / (full_evidence * (1.0 + out_of_view_evidence * out_of_view)));
   }
 
   /** The confidence's factor for a pose of \a residual (DepthExplanation::residual): 1 up to
@@ -268,7 +280,7 @@ struct DepthExplanation {
    * does not always stop the growth, so this is reported, not in the confidence). */
   double occluder_continuation = 0.0;
   /** In [0, 1]: max(0, 1 - (1 - visible_support) / max_conflict) x max(0, 1 -
-   * silhouette_continuation / max_continuation) x min(1, supported / full_evidence) x
+   * silhouette_continuation / max_continuation) x evidenceFactor(supported, out_of_view) x
    * residualFactor(residual) x edgeOffsetFactor(silhouette_offset) x
    * sinkFactor(sunk_into_support). What the localizer ranks and accepts by
    * (doc/localizer.md). */

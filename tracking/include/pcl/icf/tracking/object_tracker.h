@@ -93,8 +93,9 @@ struct TrackerTuning {
    * slides along the seen face, beyond the refinement's reach. */
   float reacquire_shift = 0.5f;
   /** The share of a re-acquired pose's rendered pixels that must be supported for full
-   * evidence (DepthVerificationParams::full_evidence; 0.4 for a search without a prior): the
-   * object was seen there moments ago (calibration: doc/TUNING.md, "The tracker"). */
+   * evidence (DepthVerificationParams::full_evidence, the search's) among the starts shifted
+   * along the box axes, which can slide a pose along a seen face (calibration: doc/TUNING.md,
+   * "The tracker"). */
   double reacquire_full_evidence = 0.35;
 
   /** \throws std::invalid_argument naming the field and value. */

@@ -710,6 +710,8 @@ std::vector<VotedPose> voteForPoses(const IcfModel& model, const PointPairScene&
   const float distance = params.rescore_distance * table.step();
   const float cos_max = std::cos(params.rescore_angle_deg * kPi / 180.f);
   const float hidden_distance = params.rescore_hidden_distance * table.step();
+  // The hidden samples are counted only for the kept_visible ranking that reads them.
+  const DepthImage* shown = params.kept_visible > 0 ? image : nullptr;
   std::vector<VotedPose> rescored(clusters.size());
   const int m = static_cast<int>(clusters.size());
 #pragma omp parallel for schedule(dynamic, 4) num_threads(std::max(1, threads))
@@ -718,10 +720,10 @@ std::vector<VotedPose> voteForPoses(const IcfModel& model, const PointPairScene&
     v.model_to_camera = clusters[static_cast<std::size_t>(c)].pose;
     v.votes = clusters[static_cast<std::size_t>(c)].votes;
     std::size_t facing = 0, hidden = 0;
-    v.explained_samples = explainedSamples(table, v.model_to_camera, grid, distance, cos_max, image,
+    v.explained_samples = explainedSamples(table, v.model_to_camera, grid, distance, cos_max, shown,
                                            hidden_distance, facing, hidden);
     v.explained = facing > 0 ? static_cast<double>(v.explained_samples) / facing : 0.0;
-    if (image && facing > hidden)
+    if (shown && facing > hidden)
       v.explained_visible = static_cast<double>(v.explained_samples) / (facing - hidden);
   }
   std::stable_sort(rescored.begin(), rescored.end(), [](const VotedPose& a, const VotedPose& b) {
@@ -754,7 +756,7 @@ std::vector<VotedPose> voteForPoses(const IcfModel& model, const PointPairScene&
     }
   };
   keep(rescored, params.kept);
-  if (image && params.kept_visible > 0) {
+  if (shown) {
     // Then the poses that explain most of what they show: a target half hidden by others.
     std::vector<VotedPose> by_share;
     for (const VotedPose& v : rescored)

@@ -207,8 +207,8 @@ struct VotedPose {
    * on them (the re-score), in [0, 1]. */
   double explained = 0.0;
   std::size_t explained_samples = 0;  ///< their number (what hypotheses are ranked by)
-  /** With a depth image: explained_samples over the facing samples the scene does not hide
-   * (the kept_visible ranking); 0 without. */
+  /** With a depth image and kept_visible > 0: explained_samples over the facing samples the
+   * scene does not hide (the kept_visible ranking); 0 otherwise. */
   double explained_visible = 0.0;
 };
 

@@ -21,6 +21,7 @@ namespace localization {
 PointPairVotingParams SceneHypotheses::defaultVoting() {
   PointPairVotingParams v;
   v.kept = 100;
+  v.kept_visible = 40;
   return v;
 }
 

@@ -29,6 +29,7 @@ py::dict verificationDict(const pcl::icf::DepthExplanation& v) {
       {"residual", &E::residual},
       {"silhouette_continuation", &E::silhouette_continuation},
       {"occluder_continuation", &E::occluder_continuation},
+      {"occluded_by_support", &E::occluded_by_support},
       {"silhouette_offset", &E::silhouette_offset},
       {"allowed_offset", &E::allowed_offset},
       {"sunk_into_support", &E::sunk_into_support},

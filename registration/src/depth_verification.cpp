@@ -60,6 +60,10 @@ void DepthVerificationParams::validate() const {
     fail("edge_offset_pixels", edge_offset_pixels, "must be positive (infinity: off)");
   if (!(mesh_accuracy >= 0.f && std::isfinite(mesh_accuracy)))
     fail("mesh_accuracy", mesh_accuracy, "must be finite and not negative");
+  if (!(support_occlusion > 0.0))
+    fail("support_occlusion", support_occlusion, "must be positive (infinity: off)");
+  if (!(crease_window > 0.f && crease_window <= 1.f))
+    fail("crease_window", crease_window, "must lie in (0, 1]");
 }
 
 namespace {
@@ -544,6 +548,116 @@ enum Verdict : std::uint8_t {
   kVerdicts = kUnjudged
 };
 
+/** Fewest supported pixels a plane of occludedBySupport is fitted to. */
+constexpr std::size_t kMinPlanePixels = 12;
+
+/** A summed-area table of one verdict over a footprint grid: how many pixels of a window
+ * have it, in O(1). */
+class VerdictCounts {
+ public:
+  VerdictCounts(const Footprint& f, const std::vector<std::uint8_t>& verdict, std::uint8_t what)
+      : f_(f), w_(f.w + 1), table_(static_cast<std::size_t>(f.w + 1) * (f.h + 1), 0) {
+    for (int y = 0; y < f.h; ++y)
+      for (int x = 0; x < f.w; ++x)
+        table_[static_cast<std::size_t>(y + 1) * w_ + (x + 1)] =
+            (verdict[static_cast<std::size_t>(y) * f.w + x] == what ? 1 : 0) + at(x + 1, y) +
+            at(x, y + 1) - at(x, y);
+  }
+  /** How many pixels within \a radius (chessboard) of pixel (u, v) have the verdict. */
+  std::int64_t within(int u, int v, int radius) const {
+    const int x0 = std::max(0, u - f_.u0 - radius), y0 = std::max(0, v - f_.v0 - radius);
+    const int x1 = std::clamp(u - f_.u0 + radius + 1, x0, f_.w);
+    const int y1 = std::clamp(v - f_.v0 + radius + 1, y0, f_.h);
+    return at(x1, y1) - at(x0, y1) - at(x1, y0) + at(x0, y0);
+  }
+
+ private:
+  std::int64_t at(int x, int y) const { return table_[static_cast<std::size_t>(y) * w_ + x]; }
+  const Footprint& f_;
+  int w_;
+  std::vector<std::int64_t> table_;
+};
+
+/** Sums over the supported pixels of a footprint grid that lie more than \a clear pixels from
+ * every occluded one, for least-squares planes in the image: inverse depth as a linear
+ * function of the pixel, w = a u + b v + c, which holds exactly for a plane seen through a
+ * pinhole camera. Summed-area tables: any window's sums in O(1). The pixels next to an
+ * occluder in contact lie within the support tolerance of the model without being its
+ * surface; left out, they do not bend the plane towards the occluder. */
+class SupportedPlaneSums {
+ public:
+  SupportedPlaneSums(const Footprint& f, const std::vector<std::uint8_t>& verdict,
+                     const DepthImage& image, std::uint8_t supported, const VerdictCounts& occluded,
+                     int clear)
+      : f_(f), w_(f.w + 1) {
+    table_.assign(static_cast<std::size_t>(f.w + 1) * (f.h + 1), Sums{});
+    for (int y = 0; y < f.h; ++y)
+      for (int x = 0; x < f.w; ++x) {
+        Sums s;
+        const std::size_t i = static_cast<std::size_t>(y) * f.w + x;
+        if (verdict[i] == supported && occluded.within(f.u0 + x, f.v0 + y, clear) == 0) {
+          const double u = x, v = y, w = 1.0 / image.depth(f.u0 + x, f.v0 + y);
+          s = Sums{{1.0, u, v, u * u, u * v, v * v, w, u * w, v * w}};
+        }
+        const Sums &up = at(x + 1, y), &left = at(x, y + 1), &diagonal = at(x, y);
+        Sums& out = table_[static_cast<std::size_t>(y + 1) * w_ + (x + 1)];
+        for (int k = 0; k < kTerms; ++k)
+          out.t[k] = s.t[k] + up.t[k] + left.t[k] - diagonal.t[k];
+      }
+  }
+
+  /** How many supported pixels lie within \a radius (chessboard) of pixel (u, v). */
+  std::size_t supportedWithin(int u, int v, int radius) const {
+    return static_cast<std::size_t>(window(u, v, radius).t[0]);
+  }
+
+  /** The depth at pixel (u, v) of the plane fitted to the supported pixels within \a radius
+   * (chessboard), or nothing with fewer than \a min_pixels of them or a degenerate spread. */
+  std::optional<double> predictedDepth(int u, int v, int radius, std::size_t min_pixels) const {
+    const Sums s = window(u, v, radius);
+    const double n = s.t[0];
+    if (n < static_cast<double>(min_pixels))
+      return std::nullopt;
+    // Centred on the query pixel: well conditioned, and the plane's value there is its
+    // intercept.
+    const double du = u - f_.u0, dv = v - f_.v0;
+    const double su = s.t[1] - du * n, sv = s.t[2] - dv * n;
+    const double suu = s.t[3] - 2.0 * du * s.t[1] + du * du * n;
+    const double suv = s.t[4] - du * s.t[2] - dv * s.t[1] + du * dv * n;
+    const double svv = s.t[5] - 2.0 * dv * s.t[2] + dv * dv * n;
+    // Supported pixels along one line fix no plane: their spread must span both directions.
+    const double mu = su / n, mv = sv / n;
+    if ((suu / n - mu * mu) * (svv / n - mv * mv) - std::pow(suv / n - mu * mv, 2) < 1.0)
+      return std::nullopt;
+    Eigen::Matrix3d a;
+    a << suu, suv, su, suv, svv, sv, su, sv, n;
+    const Eigen::Vector3d b(s.t[7] - du * s.t[6], s.t[8] - dv * s.t[6], s.t[6]);
+    const double w = a.ldlt().solve(b).z();
+    if (!(w > 0.0))
+      return std::nullopt;
+    return 1.0 / w;
+  }
+
+ private:
+  static constexpr int kTerms = 9;
+  struct Sums {
+    double t[kTerms] = {};
+  };
+  Sums window(int u, int v, int radius) const {
+    const int x0 = std::max(0, u - f_.u0 - radius), y0 = std::max(0, v - f_.v0 - radius);
+    const int x1 = std::clamp(u - f_.u0 + radius + 1, x0, f_.w);
+    const int y1 = std::clamp(v - f_.v0 + radius + 1, y0, f_.h);
+    Sums s;
+    for (int k = 0; k < kTerms; ++k)
+      s.t[k] = at(x1, y1).t[k] - at(x0, y1).t[k] - at(x1, y0).t[k] + at(x0, y0).t[k];
+    return s;
+  }
+  const Sums& at(int x, int y) const { return table_[static_cast<std::size_t>(y) * w_ + x]; }
+  const Footprint& f_;
+  int w_;
+  std::vector<Sums> table_;
+};
+
 /** The verdict of model pixel (u, v), \a margin pixels or more inside the silhouette being
  * judged in full; nearer, only the table in front counts (a lateral pose error of a few pixels
  * cannot put the model's edge beneath the table by more than the tolerance). */
@@ -571,6 +685,39 @@ Verdict judgePixel(const ModelDepth& m, const DepthImage& image, int u, int v, i
   return background ? kOnBackground : kSupported;
 }
 
+/** The share of the model's \a n pixels occluded by the surface that supports the model
+ * (DepthExplanation::occluded_by_support): of \a occluders, those growSurface reached that lie
+ * within noise_sigmas x sigma(z) of the plane fitted to the supported pixels within \a radius,
+ * the pixel and the plane's pixels each at least \a radius / 2 from the other verdict. */
+double occludedBySupport(const Footprint& f, const std::vector<std::uint8_t>& verdict,
+                         const DepthImage& image, const std::vector<std::size_t>& occluders,
+                         int radius, const DepthVerificationParams& params, double n) {
+  std::size_t reached = 0;
+  for (std::size_t i : occluders)
+    reached += f.reached[i];
+  if (reached == 0)
+    return 0.0;
+  const int gap = std::max(1, radius / 2);
+  const VerdictCounts occluded(f, verdict, kOccluded);
+  const SupportedPlaneSums sums(f, verdict, image, kSupported, occluded, gap);
+  std::size_t crossed = 0;
+  for (std::size_t i : occluders) {
+    if (!f.reached[i])
+      continue;
+    const int u = f.u(i), v = f.v(i);
+    // Near the supported pixels any surface meeting the model passes the test; a crease
+    // shows only some pixels away.
+    if (sums.supportedWithin(u, v, gap - 1) > 0)
+      continue;
+    const std::optional<double> z = sums.predictedDepth(u, v, radius, kMinPlanePixels);
+    if (!z)
+      continue;
+    const float measured = image.depth(u, v);
+    crossed += std::abs(measured - *z) <= params.noise_sigmas * params.noise.sigma(measured);
+  }
+  return static_cast<double>(crossed) / n;
+}
+
 /** (Offset of the measured depth from model pixel (u, v)'s surface along its normal /
  * fitSigma)^2. */
 double squaredNoiseOffset(const ModelDepth& m, const DepthImage& image, int u, int v,
@@ -590,6 +737,14 @@ int sameVerdictNeighbours(const std::vector<std::uint8_t>& verdict, const Footpr
        {std::pair{1, 0}, std::pair{-1, 0}, std::pair{0, 1}, std::pair{0, -1}})
     same += f.inside(u + du, v + dv) && verdict[f.at(u + du, v + dv)] == what;
   return same;
+}
+
+/** The window of occludedBySupport's planes in pixels: crease_window x the model's diameter
+ * at its nearest depth, within [4, 24]. */
+int creaseWindowPixels(const ModelDepth& m, const PinholeIntrinsics& k, float diameter,
+                       const DepthVerificationParams& params) {
+  const float pixels = params.crease_window * diameter * std::max(k.fx, k.fy) / m.nearest;
+  return std::isfinite(pixels) ? std::clamp(static_cast<int>(std::ceil(pixels)), 4, 24) : 24;
 }
 
 /** The silhouette margin in pixels for a model of \a diameter rendered in \a m (see
@@ -770,6 +925,9 @@ std::string describeRefusal(const DepthExplanation& e, double min_confidence,
   if (params.sinkFactor(e.sunk_into_support, e.support_tolerance) < 1.0)
     why << ", sinks " << std::round(1000.0 * e.sunk_into_support) / 10.0
         << " cm into the surface it stands on";
+  if (params.supportOcclusionFactor(e.occluded_by_support) < 1.0)
+    why << ", " << percent(e.occluded_by_support)
+        << " of it hidden by the surface it lies on (no crease between)";
   if (params.residualFactor(e.residual) < 1.0)
     why << " and fits the depth at " << std::round(100.0 * e.residual) / 100.0
         << " sigma, full confidence up to " << params.fit_residual;
@@ -837,6 +995,9 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
   std::size_t reached_occluders = 0;
   for (std::size_t i : occluders)
     reached_occluders += footprint.reached[i];
+  e.occluded_by_support =
+      occludedBySupport(footprint, verdict, image, occluders,
+                        creaseWindowPixels(m, image.intrinsics(), diameter, params), params, n);
   e.occluder_continuation = occluders.empty() ? 0.0
                                               : static_cast<double>(reached_occluders) /
                                                     static_cast<double>(occluders.size());
@@ -861,7 +1022,8 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
       std::max(0.0, 1.0 - e.silhouette_continuation / params.max_continuation) *
       params.evidenceFactor(e.supported, e.out_of_view) * params.residualFactor(e.residual) *
       params.edgeOffsetFactor(e.silhouette_offset, e.silhouette_edges, e.allowed_offset) *
-      params.sinkFactor(e.sunk_into_support, e.support_tolerance);
+      params.sinkFactor(e.sunk_into_support, e.support_tolerance) *
+      params.supportOcclusionFactor(e.occluded_by_support);
   return e;
 }
 

@@ -629,6 +629,81 @@ TEST(DepthVerification, ABoxTheBorderCutsOffNeedsMoreSupport) {
   EXPECT_GE(explainDepth(*model, pose, image, as_if_occluded).confidence, 0.98);
 }
 
+/** Box5 with its 14 x 9 cm front face towards the camera, turned by \a hinge_deg about the
+ * face's top edge (the camera's x axis through it), the edge at depth \a z on the optical axis's
+ * row: the face's lower part goes behind the plane z = \a z. */
+Eigen::Isometry3d hingedBox(const IcfModel& model, double hinge_deg, double z) {
+  const double top = -0.045;  // the front face's top edge, y (metres; y points down)
+  Eigen::Isometry3d hinge = Eigen::Isometry3d::Identity();
+  hinge.translation() = Eigen::Vector3d(0.0, top, z);
+  Eigen::Isometry3d box = Eigen::Isometry3d::Identity();
+  box.translation() = Eigen::Vector3d(0.0, -top, -model.mesh().boundsMin().z());
+  return hinge * Eigen::AngleAxisd(hinge_deg * M_PI / 180.0, Eigen::Vector3d::UnitX()) * box;
+}
+
+// Box5 turned 8 degrees about its front face's top edge against a wall at 0.8 m that fills the
+// image: the face's upper 37 mm lie on the wall within the support tolerance (5.2 mm = 90 mm x
+// sin 8 degrees x 37/90), the rest dips behind it by up to 12.5 mm (measured: 46% supported,
+// 54% occluded). The oracle is the plane z = 0.8 of the wall: every occluded pixel's depth lies
+// on the plane of the supported pixels around it, so every occluded pixel from half a crease
+// window (4 pixels) to a window (9) beyond the supported pixels the plane is fitted to counts:
+// some 5 rows of the face's 92-pixel width, of its ~5,400 pixels (measured 0.076). Far beyond
+// twice support_occlusion (0.02): the factor is 0 and the refusal says why.
+TEST(DepthVerification, AModelTiltedBehindTheSurfaceItLiesOnIsHiddenByItsSupport) {
+  const float z = 0.8f;
+  const DepthImage image(wallFillingTheImage(z), PinholeIntrinsics());
+  const synthetic::SyntheticModel box = synthetic::thesisModel("Box5");
+  const IcfModel::ConstPtr model = IcfModel::build(box.mesh);
+  const DepthVerificationParams params;
+  const DepthExplanation e =
+      explainDepth(*model, hingedBox(*model, 8.0, z).cast<float>(), image, params);
+  ASSERT_GT(e.supported, 0.4);  // the scene this test is about
+  ASSERT_GT(e.occluded, 0.15);
+  EXPECT_GT(e.occluder_continuation, 0.9);
+  EXPECT_GT(e.occluded_by_support, 0.05);
+  EXPECT_LT(e.occluded_by_support, e.occluded);
+  EXPECT_EQ(params.supportOcclusionFactor(e.occluded_by_support), 0.0);
+  EXPECT_EQ(e.confidence, 0.0);
+  EXPECT_NE(describeRefusal(e, 0.875, params).find("hidden by the surface it lies on"),
+            std::string::npos);
+}
+
+// The same occlusion by an object in contact: Box5 upright at 0.8 m (its face on the plane z =
+// 0.8 of the test above) and a 5 mm plate leaning 45 degrees towards the camera whose back edge
+// touches the face along its middle, hiding the lower half. The surface grown from the
+// supported upper half passes the contact without a depth step and reaches the plate
+// (occluder_continuation high, as for a real can standing on a box), but the plate leaves the
+// face's plane at a 45-degree crease: 4 pixels (half the window) below the contact it lies
+// 6 mm in front of that plane, 6 sigma. Nothing counts: occluded_by_support 0 and the
+// confidence is the evidence's alone (the half shown, no conflict).
+TEST(DepthVerification, AnObjectInContactMeetsTheModelAtACrease) {
+  const synthetic::SyntheticModel box = synthetic::thesisModel("Box5");
+  const IcfModel::ConstPtr model = IcfModel::build(box.mesh);
+  const pcl::PolygonMesh plate = synthetic::makeBox(0.3, 0.1, 0.005);
+  synthetic::SceneObject box_object, plate_object;
+  box_object.mesh = &box.mesh;
+  box_object.pose = hingedBox(*model, 0.0, 0.8);
+  box_object.label = 1;
+  // The plate's back face (z = +2.5 mm in its frame) through the line y = 0, z = 0.8, its
+  // 10 cm width going down (+y) and towards the camera (-z) at 45 degrees.
+  plate_object.mesh = &plate;
+  plate_object.pose = Eigen::Translation3d(0.0, 0.0, 0.8) *
+                      Eigen::AngleAxisd(-M_PI / 4.0, Eigen::Vector3d::UnitX()) *
+                      Eigen::Translation3d(0.0, 0.05, -0.0025);
+  plate_object.label = 2;
+  const synthetic::Scan scan = synthetic::renderScan(
+      {box_object, plate_object}, synthetic::CameraIntrinsics(), synthetic::ScanNoise::none());
+  const DepthImage image(synthetic::scanPoints(scan), PinholeIntrinsics());
+  const DepthVerificationParams params;
+  const DepthExplanation e = explainDepth(*model, box_object.pose.cast<float>(), image, params);
+  ASSERT_GT(e.supported, 0.35);  // the scene this test is about: half the face hidden
+  ASSERT_GT(e.occluded, 0.35);
+  EXPECT_GT(e.occluder_continuation, 0.5);
+  EXPECT_LT(e.occluded_by_support, 0.002);
+  EXPECT_EQ(params.supportOcclusionFactor(e.occluded_by_support), 1.0);
+  EXPECT_EQ(e.seen_through, 0.0);
+}
+
 TEST(DepthVerification, InvalidParametersNameTheField) {
   DepthVerificationParams p;
   p.noise_sigmas = 0.f;
@@ -640,6 +715,12 @@ TEST(DepthVerification, InvalidParametersNameTheField) {
   }
   p = DepthVerificationParams();
   p.max_residual = p.fit_residual;
+  EXPECT_THROW(p.validate(), std::invalid_argument);
+  p = DepthVerificationParams();
+  p.support_occlusion = 0.0;
+  EXPECT_THROW(p.validate(), std::invalid_argument);
+  p = DepthVerificationParams();
+  p.crease_window = 0.f;
   EXPECT_THROW(p.validate(), std::invalid_argument);
   PinholeIntrinsics k;
   k.fx = -1.f;

@@ -6,6 +6,7 @@
 
 #include <pcl/common/io.h>
 #include <pcl/icf/io/scene_io.h>
+#include <pcl/icf/localization/objects_localizer.h>
 
 #include <chrono>
 #include <cstdio>
@@ -33,20 +34,21 @@ const localization::ClusterLocalization* topCluster(const localization::Localiza
 /** The verification's terms of \a c, "supported=0.91 seen_through=0.02 ..." (for the CSV). */
 std::string verificationTerms(const localization::ClusterLocalization& c) {
   const auto& e = c.verification;
-  char text[768];
+  char text[896];
   std::snprintf(text, sizeof(text),
                 "pixels=%zu supported=%.4f seen_through=%.4f occluded=%.4f below_support=%.4f "
                 "isolated=%.4f missing=%.4f out_of_view=%.4f on_background=%.4f "
                 "visible_support=%.4f "
-                "continuation=%.4f band=%zu occluder_continuation=%.4f residual=%.3f "
+                "continuation=%.4f band=%zu occluder_continuation=%.4f occluded_by_support=%.4f "
+                "residual=%.3f "
                 "edge_offset=%.3f edges=%zu allowed_offset=%.3f sunk=%.4f support_tolerance=%.4f "
                 "turned=%d alternatives=%zu colour=%.4f",
                 e.model_pixels, e.supported, e.seen_through, e.occluded, e.below_support,
                 e.isolated_conflicts, e.missing, e.out_of_view, e.on_background, e.visible_support,
-                e.silhouette_continuation, e.silhouette_pixels, e.occluder_continuation, e.residual,
-                e.silhouette_offset, e.silhouette_edges, e.allowed_offset, e.sunk_into_support,
-                e.support_tolerance, c.turned ? 1 : 0, c.alternatives.size(),
-                c.colour_similarity ? *c.colour_similarity : -1.0);
+                e.silhouette_continuation, e.silhouette_pixels, e.occluder_continuation,
+                e.occluded_by_support, e.residual, e.silhouette_offset, e.silhouette_edges,
+                e.allowed_offset, e.sunk_into_support, e.support_tolerance, c.turned ? 1 : 0,
+                c.alternatives.size(), c.colour_similarity ? *c.colour_similarity : -1.0);
   return text;
 }
 
@@ -78,13 +80,10 @@ std::string describe(const localization::Localization& loc) {
   return text + n + " hypotheses; best score " + score + " " + stages(loc) + ": " + top->reason;
 }
 
-template <typename PointT>
-MethodRun localize(const pcl::PointCloud<PointT>& scene, const PreparedModel& model,
-                   const localization::LocalizerParams& params) {
+/** \a loc's run: converged when Found, the best cluster's pose, the top cluster's terms. */
+MethodRun runOf(const localization::Localization& loc, double ms) {
   MethodRun run;
-  const auto start = Clock::now();
-  const localization::Localization loc = localization::localizeObject(scene, *model.icf, params);
-  run.ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  run.ms = ms;
   run.converged = loc.status == localization::LocalizationStatus::Found && loc.best >= 0;
   if (run.converged)
     run.object_pose = loc.clusters[static_cast<std::size_t>(loc.best)].icf.object_pose;
@@ -96,6 +95,31 @@ MethodRun localize(const pcl::PointCloud<PointT>& scene, const PreparedModel& mo
       run.alternative_poses.push_back(alt.object_pose.matrix());
   }
   return run;
+}
+
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+template <typename PointT>
+MethodRun localize(const pcl::PointCloud<PointT>& scene, const PreparedModel& model,
+                   const localization::LocalizerParams& params) {
+  const auto start = Clock::now();
+  const localization::Localization loc = localization::localizeObject(scene, *model.icf, params);
+  return runOf(loc, msSince(start));
+}
+
+template <typename PointT>
+MethodRun localizeWithOthers(const pcl::PointCloud<PointT>& scene, const PreparedModel& model,
+                             const std::vector<const PreparedModel*>& others,
+                             const localization::LocalizerParams& params) {
+  std::vector<localization::ObjectQuery> queries(1 + others.size());
+  queries[0].model = model.icf;
+  for (std::size_t i = 0; i < others.size(); ++i)
+    queries[i + 1].model = others[i]->icf;
+  const auto start = Clock::now();
+  localization::ObjectsLocalization found = localization::localizeObjects(scene, queries, params);
+  return runOf(found.objects.front(), msSince(start));
 }
 
 }  // namespace
@@ -126,6 +150,13 @@ SceneInput loadScene(const CaseSpec& c) {
 MethodRun runScene(const SceneInput& scene, const PreparedModel& model,
                    const localization::LocalizerParams& params) {
   return scene.rgba ? localize(*scene.rgba, model, params) : localize(*scene.xyz, model, params);
+}
+
+MethodRun runSceneWithOthers(const SceneInput& scene, const PreparedModel& model,
+                             const std::vector<const PreparedModel*>& others,
+                             const localization::LocalizerParams& params) {
+  return scene.rgba ? localizeWithOthers(*scene.rgba, model, others, params)
+                    : localizeWithOthers(*scene.xyz, model, others, params);
 }
 
 }  // namespace bench

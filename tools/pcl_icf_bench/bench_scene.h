@@ -2,8 +2,8 @@
  * pcl_icf — Iterative Closest Face registration for PCL.
  * SPDX-License-Identifier: BSD-3-Clause
  */
-// pcl_icf_bench's scene-level method (icf-scene): the whole localizer on the whole scene,
-// segmentation included, instead of one registration on a given cluster.
+// pcl_icf_bench's scene-level methods (icf-scene, icf-objects): the whole localizer on the
+// whole scene, segmentation included, instead of one registration on a given cluster.
 #pragma once
 
 #include "bench_manifest.h"
@@ -14,6 +14,7 @@
 #include <pcl/point_types.h>
 
 #include <cstddef>
+#include <vector>
 
 namespace pcl_icf_tools {
 namespace bench {
@@ -36,6 +37,13 @@ SceneInput loadScene(const CaseSpec& c);
  * cluster was rejected. */
 MethodRun runScene(const SceneInput& scene, const PreparedModel& model,
                    const pcl::icf::localization::LocalizerParams& params);
+
+/** pcl::icf::localization::localizeObjects on the whole scene with \a model and \a others (every
+ * other model of the manifest) in one call, each object's instances competing for the scene's
+ * points; the time is the whole call, the rest as runScene for \a model's result. */
+MethodRun runSceneWithOthers(const SceneInput& scene, const PreparedModel& model,
+                             const std::vector<const PreparedModel*>& others,
+                             const pcl::icf::localization::LocalizerParams& params);
 
 }  // namespace bench
 }  // namespace pcl_icf_tools

@@ -4,6 +4,8 @@
  */
 #include "bop_results.h"
 
+#include <Eigen/SVD>
+
 #include "common/arguments.h"
 
 #include <pcl/icf/io/mesh_io.h>
@@ -107,7 +109,11 @@ void writeBopCsv(const fs::path& path, const std::vector<BopEstimate>& rows) {
   std::string text = "scene_id,im_id,obj_id,score,R,t,time\n";
   char buf[512];
   for (const BopEstimate& e : rows) {
-    const Eigen::Matrix3d R = e.pose.linear();
+    // The nearest rotation (U V^T of the SVD): the localizer's rotations are computed in float
+    // and stray from orthonormal by up to about 1e-6, which the 9 decimals written would show.
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(e.pose.linear(),
+                                                Eigen::ComputeFullU | Eigen::ComputeFullV);
+    const Eigen::Matrix3d R = svd.matrixU() * svd.matrixV().transpose();
     const Eigen::Vector3d t = e.pose.translation();
     std::snprintf(
         buf, sizeof buf,

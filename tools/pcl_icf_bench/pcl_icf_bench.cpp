@@ -52,6 +52,10 @@
 //   icf-scene     pcl::icf::localization::localizeObject on the WHOLE scene (segmentation,
 //                 every cluster, acceptance, ranking), ignoring cluster=; its time is the
 //                 whole call. Only when named in --methods.
+//   icf-objects   pcl::icf::localization::localizeObjects on the whole scene with the case's
+//                 model and every other model of the manifests in one call (their instances
+//                 compete for the scene's points); scored on the case's model, the others'
+//                 poses unscored (the manifest has no truth for them). Only when named.
 //
 // A case with truth=none has the model absent from its scene: a method that claims a pose there
 // (its own verdict, the CSV's converged) gives a false pose. The cluster methods are not run on
@@ -120,8 +124,13 @@ bool isPeer(const std::string& m) {
   return false;
 #endif
 }
-/** The method run on the whole scene (bench_scene.h). */
+/** The methods run on the whole scene (bench_scene.h): one model, every model in one call. */
 const std::string kSceneMethod = "icf-scene";
+const std::string kObjectsMethod = "icf-objects";
+
+bool isSceneMethod(const std::string& m) {
+  return m == kSceneMethod || m == kObjectsMethod;
+}
 
 struct Options {
   fs::path out_dir = "bench_out", plot_dir;
@@ -160,7 +169,9 @@ int usage(const char* program) {
                program, program);
   for (const auto& m : clusterMethods())
     std::fprintf(stderr, " %s", m.c_str());
-  std::fprintf(stderr, ", icf-scene (whole scene)\n");
+  std::fprintf(stderr,
+               ", icf-scene (whole scene), icf-objects (whole scene, every model of the "
+               "manifests in one call)\n");
   return 2;
 }
 
@@ -257,7 +268,7 @@ bool parseOptions(int argc, char** argv, Options& o) {
     else if (arg == "--methods") {
       o.methods = splitComma(args.value(arg));
       for (const auto& m : o.methods)
-        if (m != kSceneMethod && std::find(clusterMethods().begin(), clusterMethods().end(), m) ==
+        if (!isSceneMethod(m) && std::find(clusterMethods().begin(), clusterMethods().end(), m) ==
                                      clusterMethods().end())
           throw std::invalid_argument("unknown method " + m);
     } else if (arg == "--sac") {
@@ -313,11 +324,10 @@ bool parseOptions(int argc, char** argv, Options& o) {
     throw std::invalid_argument("--ppf-sampling must lie in [0.01, 0.5]");
   o.sac.validate();
   icfParams(o).validate();  // the --icf fields' names and ranges, before any case runs
-  const bool scene_method =
-      std::find(o.methods.begin(), o.methods.end(), kSceneMethod) != o.methods.end();
+  const bool scene_method = std::any_of(o.methods.begin(), o.methods.end(), isSceneMethod);
   if ((!o.verification_fields.empty() || !o.tuning_fields.empty()) && !scene_method)
     throw std::invalid_argument(
-        "--verification and --tuning are for icf-scene: add it to --methods");
+        "--verification and --tuning are for icf-scene and icf-objects: add one to --methods");
   sceneParams(o).validate();  // --verification's and --tuning's fields
   if (o.plot_dir.empty())
     o.plot_dir = o.out_dir;
@@ -347,6 +357,7 @@ std::vector<CaseSpec> readCases(const Options& o, std::vector<std::string>& grou
 struct CaseInput {
   CloudXYZ::Ptr cluster;
   SceneInput scene;
+  std::vector<const PreparedModel*> other_models;  ///< icf-objects: the manifests' other models
 };
 
 /** icf-scene's parameters: the localizer's defaults with the
@@ -443,6 +454,8 @@ MethodRun runMethod(const std::string& m, const CaseInput& in, const PreparedMod
                     const Options& o) {
   if (m == kSceneMethod)
     return runScene(in.scene, model, sceneParams(o));
+  if (m == kObjectsMethod)
+    return runSceneWithOthers(in.scene, model, in.other_models, sceneParams(o));
   for (const ClusterMethod& method : clusterMethodTable())
     if (method.name == m)
       return method.run(in.cluster, model, o);
@@ -524,7 +537,7 @@ bool withoutCluster(const CaseSpec& c) {
 }
 
 bool runsOnCluster(const std::string& m) {
-  return m != kSceneMethod;
+  return !isSceneMethod(m);
 }
 
 /** Whether method \a m runs on case \a c, the case's \a index_in_group-th. */
@@ -547,8 +560,12 @@ CaseInput loadInput(const CaseSpec& c, const PreparedModel& model, const Options
   return in;
 }
 
+std::string modelKey(const CaseSpec& c) {
+  return c.model.string() + "@" + std::to_string(c.scale);
+}
+
 const PreparedModel& modelOf(const CaseSpec& c, const Options& o, ModelCache& models, bool tty) {
-  const std::string model_key = c.model.string() + "@" + std::to_string(c.scale);
+  const std::string model_key = modelKey(c);
   if (!models.count(model_key)) {
     if (tty)
       std::fprintf(stderr, "\r\033[Kpreparing %s ...", c.model.filename().string().c_str());
@@ -561,6 +578,20 @@ const PreparedModel& modelOf(const CaseSpec& c, const Options& o, ModelCache& mo
     models[model_key] = model;
   }
   return *models[model_key];
+}
+
+/** icf-objects' other models for case \a c: every model of \a cases but \a c's, once each, in
+ * order of first appearance (prepared when first needed). */
+std::vector<const PreparedModel*> otherModels(const CaseSpec& c, const std::vector<CaseSpec>& cases,
+                                              const Options& o, ModelCache& models, bool tty) {
+  std::vector<const PreparedModel*> others;
+  std::vector<std::string> keys = {modelKey(c)};
+  for (const CaseSpec& other : cases)
+    if (std::find(keys.begin(), keys.end(), modelKey(other)) == keys.end()) {
+      keys.push_back(modelKey(other));
+      others.push_back(&modelOf(other, o, models, tty));
+    }
+  return others;
 }
 
 /** Every selected method on every case, with progress on a terminal; \a skipped counts the
@@ -577,7 +608,9 @@ std::vector<Row> runAll(const std::vector<CaseSpec>& cases, const Options& o, Mo
   for (std::size_t ci = 0; ci < cases.size(); ++ci) {
     const CaseSpec& c = cases[ci];
     const PreparedModel& model = modelOf(c, o, models, tty);
-    const CaseInput in = loadInput(c, model, o);
+    CaseInput in = loadInput(c, model, o);
+    if (std::find(o.methods.begin(), o.methods.end(), kObjectsMethod) != o.methods.end())
+      in.other_models = otherModels(c, cases, o, models, tty);
     skipped += cluster_methods && withoutCluster(c);
     const int index_in_group = group_index[c.group]++;
     for (const auto& m : o.methods) {

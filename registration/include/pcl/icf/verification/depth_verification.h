@@ -108,6 +108,16 @@ struct DepthVerificationParams {
    * the fit is judged (fitSigma: a right pose fits the depth that much less closely) and to
    * where the silhouette may lie (allowedEdgeOffset). */
   float mesh_accuracy = 0.f;
+  /** A right pose is hidden by the surface that supports it almost nowhere
+   * (DepthExplanation::occluded_by_support; an object in contact meets it at a crease); a
+   * model tilted against a flat face it is posed on dips behind that face. Up to this share of
+   * the model's pixels the confidence does not depend on it; beyond, it falls linearly and
+   * reaches 0 at twice the share (calibration: doc/TUNING.md, "The depth verification"). */
+  double support_occlusion = 0.01;
+  /** The window of the planes that tell a surface carried on from a crease
+   * (DepthExplanation::occluded_by_support), as a share of the model's diameter at its
+   * nearest depth (4-24 pixels). */
+  float crease_window = 0.08f;
 
   /** The support tolerance at depth \a z for a model of \a diameter: noise_sigmas x sigma(z)
    * + size_tolerance x diameter. A measured depth this close to the model's surface (along
@@ -163,6 +173,14 @@ struct DepthVerificationParams {
     if (sunk <= allowed)
       return 1.0;
     return std::max(0.0, 1.0 - (sunk - allowed) / support_tolerance);
+  }
+
+  /** The confidence's factor for a pose whose \a share of pixels is hidden by the surface
+   * that supports it: 1 up to support_occlusion, falling linearly to 0 at twice it. */
+  double supportOcclusionFactor(double share) const {
+    if (share <= support_occlusion)
+      return 1.0;
+    return std::max(0.0, 2.0 - share / support_occlusion);
   }
 
   /** \throws std::invalid_argument naming the field. */
@@ -279,10 +297,19 @@ struct DepthExplanation {
    * shorter model) or an object in contact with it (a can standing on a box; its colour
    * does not always stop the growth, so this is reported, not in the confidence). */
   double occluder_continuation = 0.0;
+  /** Of the model's pixels, the share hidden by the very surface that supports it: occluded
+   * pixels that the supported surface reaches (as occluder_continuation), some pixels away
+   * from the supported ones (half a crease window), whose depth lies within noise_sigmas x
+   * sigma(z) of the plane fitted to the supported pixels within the window
+   * (DepthVerificationParams::crease_window). A model tilted against a flat face it is posed
+   * on dips behind that face with no crease between; a real object in contact with the
+   * model (a can standing on a box) meets it at a crease. */
+  double occluded_by_support = 0.0;
   /** In [0, 1]: max(0, 1 - (1 - visible_support) / max_conflict) x max(0, 1 -
    * silhouette_continuation / max_continuation) x evidenceFactor(supported, out_of_view) x
    * residualFactor(residual) x edgeOffsetFactor(silhouette_offset) x
-   * sinkFactor(sunk_into_support). What the localizer ranks and accepts by
+   * sinkFactor(sunk_into_support) x supportOcclusionFactor(occluded_by_support). What the
+   * localizer ranks and accepts by
    * (doc/localizer.md). */
   double confidence = 0.0;
 };

@@ -8,6 +8,7 @@
 #include <pcl/icf/registration/usable_point.h>
 #include <pcl_icf_internal/grown_model_box.h>
 #include <pcl_icf_internal/parameter_check.h>
+#include <pcl_icf_internal/place_quota.h>
 
 #include <omp.h>
 
@@ -217,20 +218,11 @@ std::vector<RankedHypothesis> rankCandidates(
   // At most per_location hypotheses of one place (model centres within a quarter of the
   // diameter of a better one's): the rest of the quota goes to other places (a second copy).
   const Eigen::Vector3f centre = 0.5f * (model.mesh().boundsMin() + model.mesh().boundsMax());
-  std::vector<Eigen::Vector3f> places;
-  std::vector<std::size_t> at_place;
+  internal::PlaceQuota quota(0.25f * diameter, params.per_location);
   for (const std::size_t k : unique) {
     if (out.size() >= judged || ranked[k].confidence < params.min_prescore)
       break;
-    const Eigen::Vector3f c = ranked[k].pose * centre;
-    std::size_t place = 0;
-    while (place < places.size() && (places[place] - c).norm() > 0.25f * diameter)
-      ++place;
-    if (place == places.size()) {
-      places.push_back(c);
-      at_place.push_back(0);
-    }
-    if (at_place[place]++ >= params.per_location)
+    if (!quota.admit(ranked[k].pose * centre))
       continue;
     RankedHypothesis h;
     h.model_to_camera = ranked[k].pose;

@@ -551,6 +551,17 @@ enum Verdict : std::uint8_t {
 /** Fewest supported pixels a plane of occludedBySupport is fitted to. */
 constexpr std::size_t kMinPlanePixels = 12;
 
+/** The corners, in a summed-area table over \a f's grid (one row and column more), of the
+ * window within \a radius (chessboard) of pixel (u, v), cut at the grid's edges. */
+struct TableWindow {
+  int x0, y0, x1, y1;
+  TableWindow(const Footprint& f, int u, int v, int radius)
+      : x0(std::max(0, u - f.u0 - radius)),
+        y0(std::max(0, v - f.v0 - radius)),
+        x1(std::clamp(u - f.u0 + radius + 1, x0, f.w)),
+        y1(std::clamp(v - f.v0 + radius + 1, y0, f.h)) {}
+};
+
 /** A summed-area table of one verdict over a footprint grid: how many pixels of a window
  * have it, in O(1). */
 class VerdictCounts {
@@ -565,10 +576,8 @@ class VerdictCounts {
   }
   /** How many pixels within \a radius (chessboard) of pixel (u, v) have the verdict. */
   std::int64_t within(int u, int v, int radius) const {
-    const int x0 = std::max(0, u - f_.u0 - radius), y0 = std::max(0, v - f_.v0 - radius);
-    const int x1 = std::clamp(u - f_.u0 + radius + 1, x0, f_.w);
-    const int y1 = std::clamp(v - f_.v0 + radius + 1, y0, f_.h);
-    return at(x1, y1) - at(x0, y1) - at(x1, y0) + at(x0, y0);
+    const TableWindow w(f_, u, v, radius);
+    return at(w.x1, w.y1) - at(w.x0, w.y1) - at(w.x1, w.y0) + at(w.x0, w.y0);
   }
 
  private:
@@ -644,12 +653,11 @@ class SupportedPlaneSums {
     double t[kTerms] = {};
   };
   Sums window(int u, int v, int radius) const {
-    const int x0 = std::max(0, u - f_.u0 - radius), y0 = std::max(0, v - f_.v0 - radius);
-    const int x1 = std::clamp(u - f_.u0 + radius + 1, x0, f_.w);
-    const int y1 = std::clamp(v - f_.v0 + radius + 1, y0, f_.h);
+    const TableWindow w(f_, u, v, radius);
     Sums s;
     for (int k = 0; k < kTerms; ++k)
-      s.t[k] = at(x1, y1).t[k] - at(x0, y1).t[k] - at(x1, y0).t[k] + at(x0, y0).t[k];
+      s.t[k] =
+          at(w.x1, w.y1).t[k] - at(w.x0, w.y1).t[k] - at(w.x1, w.y0).t[k] + at(w.x0, w.y0).t[k];
     return s;
   }
   const Sums& at(int x, int y) const { return table_[static_cast<std::size_t>(y) * w_ + x]; }
@@ -686,17 +694,13 @@ Verdict judgePixel(const ModelDepth& m, const DepthImage& image, int u, int v, i
 }
 
 /** The share of the model's \a n pixels occluded by the surface that supports the model
- * (DepthExplanation::occluded_by_support): of \a occluders, those growSurface reached that lie
+ * (DepthExplanation::occluded_by_support), for \a occluders some of which growSurface reached:
+ * of them, those it reached that lie
  * within noise_sigmas x sigma(z) of the plane fitted to the supported pixels within \a radius,
  * the pixel and the plane's pixels each at least \a radius / 2 from the other verdict. */
 double occludedBySupport(const Footprint& f, const std::vector<std::uint8_t>& verdict,
                          const DepthImage& image, const std::vector<std::size_t>& occluders,
                          int radius, const DepthVerificationParams& params, double n) {
-  std::size_t reached = 0;
-  for (std::size_t i : occluders)
-    reached += f.reached[i];
-  if (reached == 0)
-    return 0.0;
   const int gap = std::max(1, radius / 2);
   const VerdictCounts occluded(f, verdict, kOccluded);
   const SupportedPlaneSums sums(f, verdict, image, kSupported, occluded, gap);
@@ -995,9 +999,10 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
   std::size_t reached_occluders = 0;
   for (std::size_t i : occluders)
     reached_occluders += footprint.reached[i];
-  e.occluded_by_support =
-      occludedBySupport(footprint, verdict, image, occluders,
-                        creaseWindowPixels(m, image.intrinsics(), diameter, params), params, n);
+  if (reached_occluders > 0)
+    e.occluded_by_support =
+        occludedBySupport(footprint, verdict, image, occluders,
+                          creaseWindowPixels(m, image.intrinsics(), diameter, params), params, n);
   e.occluder_continuation = occluders.empty() ? 0.0
                                               : static_cast<double>(reached_occluders) /
                                                     static_cast<double>(occluders.size());

@@ -19,6 +19,7 @@
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_types.h>
 #include <pcl_icf_internal/parameter_check.h>
+#include <pcl_icf_internal/place_quota.h>
 
 #include <omp.h>
 
@@ -732,8 +733,7 @@ std::vector<VotedPose> voteForPoses(const IcfModel& model, const PointPairScene&
   const float tolerance = params.distinct_surface * table.diameter();
   // At most kept_per_place of one place (model centres within a quarter of the diameter of a
   // better one's), so that a second object, or a second copy, is voted for too.
-  std::vector<Eigen::Vector3f> places;
-  std::vector<std::size_t> at_place;
+  internal::PlaceQuota quota(0.25f * table.diameter(), params.kept_per_place);
   const auto keep = [&](const std::vector<VotedPose>& ranked, std::size_t limit) {
     for (const VotedPose& v : ranked) {
       if (result.size() >= limit)
@@ -742,17 +742,8 @@ std::vector<VotedPose> voteForPoses(const IcfModel& model, const PointPairScene&
             return posesShareSurface(model, v.model_to_camera, k.model_to_camera, tolerance);
           }))
         continue;
-      const Eigen::Vector3f c = v.model_to_camera * centre;
-      std::size_t place = 0;
-      while (place < places.size() && (places[place] - c).norm() > 0.25f * table.diameter())
-        ++place;
-      if (place == places.size()) {
-        places.push_back(c);
-        at_place.push_back(0);
-      }
-      if (at_place[place]++ >= params.kept_per_place)
-        continue;
-      result.push_back(v);
+      if (quota.admit(v.model_to_camera * centre))
+        result.push_back(v);
     }
   };
   keep(rescored, params.kept);

@@ -75,22 +75,22 @@ pcl::PolygonMesh decodeMesh(Bytes& in, bool raw) {
 pcl::icf::IcfParams tinyBudget(std::uint8_t flags, int threads) {
   pcl::icf::IcfParams p;
   p.strategy = (flags & 8) ? pcl::icf::SearchStrategy::Thesis : pcl::icf::SearchStrategy::Fast;
-  p.global.rotations = 24;
-  p.global.subsample = 32;
-  p.global.centroid_samples = 32;
-  p.global.keep = 2;
-  p.global.max_anchors = 4;
-  p.global.field_refinement.max_iterations = 3;
-  p.thesis.outer_iterations = 2;
-  p.thesis.orientation_iterations = 3;
-  p.thesis.samples_per_kernel = 3;
-  p.exact_candidates = 1;
-  p.candidate_points = 64;
-  p.refinement.max_iterations = 4;
+  p.tuning().global.rotations = 24;
+  p.tuning().global.subsample = 32;
+  p.tuning().global.centroid_samples = 32;
+  p.tuning().global.keep = 2;
+  p.tuning().global.max_anchors = 4;
+  p.tuning().global.field_refinement.max_iterations = 3;
+  p.tuning().thesis.outer_iterations = 2;
+  p.tuning().thesis.orientation_iterations = 3;
+  p.tuning().thesis.samples_per_kernel = 3;
+  p.tuning().exact_candidates = 1;
+  p.tuning().candidate_points = 64;
+  p.tuning().refinement.max_iterations = 4;
   p.acceptance.min_inliers = 10;
   p.fallback = (flags & 16) ? pcl::icf::FallbackPolicy::Always : pcl::icf::FallbackPolicy::Off;
-  p.sac.model_samples = 2000;
-  p.sac.max_iterations = 200;
+  p.tuning().sac.model_samples = 2000;
+  p.tuning().sac.max_iterations = 200;
   p.threads = threads;
   return p;
 }

@@ -96,7 +96,7 @@ void resolveTurns(ClusterLocalization& c, const SceneView& view, const DepthImag
                   const IcfModel& model, const PrincipalAxes& axes, const LocalizerParams& params) {
   const std::vector<Eigen::Vector3f> points = usablePoints(view, c.indices);
   const PoseAlternativeParams& ap = params.tuning().alternatives;
-  const TurnChecks checks{params.tuning().icf.refinement, params.verificationParams()};
+  const TurnChecks checks{params.tuning().icf.tuning().refinement, params.verificationParams()};
   const Eigen::Isometry3f found(c.icf.object_pose);
   std::vector<PoseAlternative> candidates =
       turnedAlternatives(model, axes, points, found, c.verification, image, ap, checks);
@@ -125,8 +125,8 @@ void resolveTurns(ClusterLocalization& c, const SceneView& view, const DepthImag
     c.icf.quality = measurePoseQuality(model, points, scene_to_model, kCameraAtOrigin,
                                        params.tuning().icf.acceptance.inlier_distance,
                                        params.tuning().icf.acceptance.gate.distance,
-                                       params.tuning().icf.objective,
-                                       params.tuning().icf.acceptance.visibility);
+                                       params.tuning().icf.tuning().objective,
+                                       params.tuning().icf.tuning().visibility);
     c.verification = winner.verification;
     c.score = c.verification.confidence * colour_factor;
     c.explained =
@@ -172,15 +172,14 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
   // The gate is applied below, to the points the posed model claims (a merged cluster's other
   // objects are not its far points), not by estimatePose to the whole crop.
   icf.acceptance.gate.enabled = false;
-  // One verification: the seen-through check judges the depth with the same tolerances.
-  icf.acceptance.depth = params.verificationParams();
   // A hypothesis is refined from its pose, on a strided subset of the points near it.
   if (start) {
     const SceneHypotheses& hp = params.tuning().hypotheses;
-    icf.refinement.max_points = hp.refine_points;
-    icf.refinement.initial_inlier_distance =
-        std::max(icf.refinement.final_inlier_distance, hp.fine_start_radius);
-    icf.refinement.max_iterations = std::min(icf.refinement.max_iterations, hp.fine_iterations);
+    RefinementParams& refinement = icf.tuning().refinement;
+    refinement.max_points = hp.refine_points;
+    refinement.initial_inlier_distance =
+        std::max(refinement.final_inlier_distance, hp.fine_start_radius);
+    refinement.max_iterations = std::min(refinement.max_iterations, hp.fine_iterations);
   }
   PoseEstimateOptions options;
   if (start)  // the hypothesis's pose is where the refinement starts (scene -> model)

@@ -55,10 +55,7 @@ IcfParams LocalizerTuning::defaultIcf() {
 }
 
 DepthVerificationParams LocalizerParams::verificationParams() const {
-  DepthVerificationParams verification = tuning_.verification;
-  verification.mesh_accuracy = mesh_accuracy;
-  verification.noise = depth_noise;
-  return verification;
+  return tuning_.verification.forSensor(depth_noise, mesh_accuracy);
 }
 
 IcfParams LocalizerParams::icfParams() const {
@@ -67,6 +64,10 @@ IcfParams LocalizerParams::icfParams() const {
   icf.fallback = fallback;
   icf.seed = seed;
   icf.threads = threads;
+  // One verification: the seen-through check judges the depth with the same tolerances.
+  icf.tuning().depth = tuning_.verification;
+  icf.mesh_accuracy = mesh_accuracy;
+  icf.depth_noise = depth_noise;
   return icf;
 }
 
@@ -227,7 +228,7 @@ std::string searchRound(const SceneView& view, const std::vector<pcl::PointIndic
       withoutExplainedPoints(rest, view, explained, params.cluster.min_size);
     const std::vector<Candidate> searched =
         clusterCandidates(view, searchedClusters(view, rest, model, params), model,
-                          params.tuning().icf.global, params.seed, hp, threads);
+                          params.tuning().icf.tuning().global, params.seed, hp, threads);
     candidates.insert(candidates.end(), searched.begin(), searched.end());
   }
   out.hypotheses_ms += msSince(stage);

@@ -79,7 +79,7 @@ bool clusterLooksMerged(const SceneView& view, const pcl::PointIndices& cluster,
   points.reserve(cluster.indices.size());
   for (const auto i : cluster.indices)
     points.push_back(view.points[static_cast<std::size_t>(i)]);
-  return spreadsWiderThanModel(points, model.radius(), params.tuning().icf.global);
+  return spreadsWiderThanModel(points, model.radius(), params.tuning().icf.tuning().global);
 }
 
 pcl::PointCloud<pcl::PointXYZRGBA> colouredCloud(const SceneView& view) {

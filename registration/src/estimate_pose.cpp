@@ -103,25 +103,35 @@ void AcceptanceParams::validate() const {
   gate.validate();
   if (!(max_seen_through >= 0.0 && max_seen_through <= 1.0))
     fail("max_seen_through", max_seen_through, "must lie in [0, 1]");
-  visibility.validate();
-  depth.validate();
 }
 
-void IcfParams::validate() const {
+void IcfTuning::validate(bool with_sac) const {
   global.validate();
   thesis.validate();
   objective.validate();
   refinement.validate();
-  acceptance.validate();
-  if (fallback != FallbackPolicy::Off)
+  visibility.validate();
+  depth.validate();
+  if (with_sac)
     sac.validate();
-  const internal::ParameterCheck fail("IcfParams");
+  const internal::ParameterCheck fail("IcfTuning");
   if (exact_candidates < 1)
     fail("exact_candidates", exact_candidates, "must be at least 1");
   if (candidate_points < 3)
     fail("candidate_points", candidate_points, "must be at least 3 (a refinement needs points)");
   if (fine_iterations < 1 || fine_iterations > 100000)
     fail("fine_iterations", fine_iterations, "must lie in [1, 100000]");
+}
+
+DepthVerificationParams IcfParams::depthParams() const {
+  return tuning_.depth.forSensor(depth_noise, mesh_accuracy);
+}
+
+void IcfParams::validate() const {
+  acceptance.validate();
+  tuning_.validate(fallback != FallbackPolicy::Off);
+  depthParams().validate();
+  const internal::ParameterCheck fail("IcfParams");
   if (threads < 0 || threads > 1024)
     fail("threads", threads, "must lie in [0, 1024] (0 = all cores)");
 }
@@ -172,11 +182,12 @@ std::vector<Eigen::Vector3f> pointsNearModel(const IcfModel& model,
 PoseHypothesis fastSearch(const IcfModel& model, const std::vector<Eigen::Vector3f>& points,
                           const Eigen::Vector3f& camera, const IcfParams& params, int threads,
                           const StartCheck& worth_refining) {
+  const IcfTuning& tuning = params.tuning();
   const std::vector<PoseHypothesis> hypotheses =
-      globalSearch(model, points, camera, params.global, params.seed, threads);
-  const std::size_t n = std::min(params.exact_candidates, hypotheses.size());
+      globalSearch(model, points, camera, tuning.global, params.seed, threads);
+  const std::size_t n = std::min(tuning.exact_candidates, hypotheses.size());
   // No candidate the caller's check gives a chance: the search's best as it is, unrefined.
-  if (params.check_candidates && worth_refining && n > 0 &&
+  if (tuning.check_candidates && worth_refining && n > 0 &&
       std::none_of(hypotheses.begin(), hypotheses.begin() + static_cast<std::ptrdiff_t>(n),
                    [&](const PoseHypothesis& h) { return worth_refining(h.scene_to_model); }))
     return hypotheses.front();
@@ -187,12 +198,12 @@ PoseHypothesis fastSearch(const IcfModel& model, const std::vector<Eigen::Vector
   for (std::size_t i = 0; i < n; ++i) {
     const std::vector<Eigen::Vector3f> subset =
         internal::randomSubset(pointsNearModel(model, points, hypotheses[i].scene_to_model,
-                                               params.refinement.initial_inlier_distance),
-                               params.candidate_points, params.seed + 1);
+                                               tuning.refinement.initial_inlier_distance),
+                               tuning.candidate_points, params.seed + 1);
     const RefinementResult refined =
-        refinePose(model.index(), subset, hypotheses[i].scene_to_model, params.refinement, threads);
+        refinePose(model.index(), subset, hypotheses[i].scene_to_model, tuning.refinement, threads);
     const double score = exactKernelScore(model.index(), subset, refined.scene_to_model,
-                                          params.global.fine_kernel, threads);
+                                          tuning.global.fine_kernel, threads);
     if (score > best.score)
       best = PoseHypothesis{refined.scene_to_model, score};
   }
@@ -305,6 +316,8 @@ class PoseEstimation {
         points_(points),
         camera_(camera),
         params_(params),
+        tuning_(params.tuning()),
+        depth_(params.depthParams()),
         guess_(guess),
         worth_refining_(worth_refining),
         threads_(params.threads > 0 ? params.threads : omp_get_num_procs()) {
@@ -333,7 +346,7 @@ class PoseEstimation {
     }
     const PoseHypothesis h =
         params_.strategy == SearchStrategy::Thesis
-            ? thesisSearch(model_, points_, params_.thesis, params_.objective, params_.seed,
+            ? thesisSearch(model_, points_, tuning_.thesis, tuning_.objective, params_.seed,
                            threads_)
             : fastSearch(model_, points_, camera_, params_, threads_, worth_refining_);
     result.search_score = h.score;
@@ -357,16 +370,15 @@ class PoseEstimation {
     // (Localizer/TwoCopies.GiveTwoInstances/1; doc/BENCHMARKS.md): not the default until that
     // is understood.
     o.refined =
-        guess_ ? refinePose(model_.index(), points_, from, params_.refinement, threads_, cb)
-               : refineCoarseToFine(model_.index(), points_, from, params_.refinement,
-                                    params_.coarse_points, params_.fine_iterations, threads_, cb);
-    o.quality =
-        measurePoseQuality(model_, points_, o.refined.scene_to_model, camera_,
-                           params_.acceptance.inlier_distance, params_.acceptance.gate.distance,
-                           params_.objective, params_.acceptance.visibility, threads_);
+        guess_ ? refinePose(model_.index(), points_, from, tuning_.refinement, threads_, cb)
+               : refineCoarseToFine(model_.index(), points_, from, tuning_.refinement,
+                                    tuning_.coarse_points, tuning_.fine_iterations, threads_, cb);
+    o.quality = measurePoseQuality(
+        model_, points_, o.refined.scene_to_model, camera_, params_.acceptance.inlier_distance,
+        params_.acceptance.gate.distance, tuning_.objective, tuning_.visibility, threads_);
     if (check_image_)
-      o.quality.seen_through = seenThrough(model_, o.refined.scene_to_model, *check_image_,
-                                           scene_to_camera_, params_.acceptance.depth);
+      o.quality.seen_through =
+          seenThrough(model_, o.refined.scene_to_model, *check_image_, scene_to_camera_, depth_);
     o.accepted = isAcceptable(o.quality, params_.acceptance);
     return o;
   }
@@ -389,7 +401,7 @@ class PoseEstimation {
   /** The SampleConsensus start: SAC's transform, or the centroid start (the model's surface
    * centroid on the points' centroid, no rotation) when it finds nothing. */
   Eigen::Isometry3f sacStart(IcfResult& result) const {
-    const SacResult sac = sampleConsensusAlign(model_, points_, camera_, params_.sac, threads_);
+    const SacResult sac = sampleConsensusAlign(model_, points_, camera_, tuning_.sac, threads_);
     result.fallback_ran = true;
     result.sac_status = sac.status;
     if (sac.found())
@@ -407,6 +419,8 @@ class PoseEstimation {
   const std::vector<Eigen::Vector3f>& points_;
   const Eigen::Vector3f& camera_;
   const IcfParams& params_;
+  const IcfTuning& tuning_;
+  const DepthVerificationParams depth_;  ///< params_.depthParams(), made once
   const Eigen::Isometry3f* guess_;
   const StartCheck& worth_refining_;
   const int threads_;

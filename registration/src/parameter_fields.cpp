@@ -18,6 +18,10 @@ constexpr double kMaxSeed = 9007199254740992.0;  // 2^53: every seed a double ho
   [](IcfParams & p) -> auto& { \
     return p.expr;             \
   }
+#define PCL_ICF_TUNED(expr)    \
+  [](IcfParams & p) -> auto& { \
+    return p.tuning().expr;    \
+  }
 
 FieldRegistry<IcfParams> makeIcfFields() {
   using P = IcfParams;
@@ -36,33 +40,33 @@ FieldRegistry<IcfParams> makeIcfFields() {
                      "on it)",
                      PCL_ICF_ACCESS(threads), false),
       numberField<P>("rotations", 1, kMaxCount, "rotations the global search tries",
-                     PCL_ICF_ACCESS(global.rotations)),
+                     PCL_ICF_TUNED(global.rotations)),
       numberField<P>("subsample", 3, kMaxCount, "scene points the coarse search scores",
-                     PCL_ICF_ACCESS(global.subsample)),
+                     PCL_ICF_TUNED(global.subsample)),
       numberField<P>("prescreen_points", 0, kMaxCount,
                      "points of the prescreen that ranks the rotations",
-                     PCL_ICF_ACCESS(global.prescreen_points)),
+                     PCL_ICF_TUNED(global.prescreen_points)),
       numberField<P>("prescreen_share", 0, 1, "share of the rotations the prescreen keeps",
-                     PCL_ICF_ACCESS(global.prescreen_share)),
+                     PCL_ICF_TUNED(global.prescreen_share)),
       numberField<P>("keep", 1, kMaxCount, "hypotheses the search keeps per cluster",
-                     PCL_ICF_ACCESS(global.keep)),
+                     PCL_ICF_TUNED(global.keep)),
       numberField<P>("distinct_surface", 0, 1,
                      "hypotheses that put every surface sample within this x the radius of the "
                      "other's surface are one",
-                     PCL_ICF_ACCESS(global.distinct_surface)),
+                     PCL_ICF_TUNED(global.distinct_surface)),
       numberField<P>("exact_candidates", 1, kMaxCount, "candidates refined against the exact faces",
-                     PCL_ICF_ACCESS(exact_candidates)),
+                     PCL_ICF_TUNED(exact_candidates)),
       numberField<P>("candidate_points", 3, kMaxCount, "points of each candidate's refinement",
-                     PCL_ICF_ACCESS(candidate_points)),
+                     PCL_ICF_TUNED(candidate_points)),
       numberField<P>("check_candidates", 0, 1,
                      "candidates first checked as the search left them; refused: none refined",
-                     PCL_ICF_ACCESS(check_candidates)),
+                     PCL_ICF_TUNED(check_candidates)),
       numberField<P>("coarse_points", 0, kMaxCount, "points of the coarse refinement",
-                     PCL_ICF_ACCESS(coarse_points)),
+                     PCL_ICF_TUNED(coarse_points)),
       numberField<P>("fine_iterations", 1, 100000, "iterations of the fine refinement",
-                     PCL_ICF_ACCESS(fine_iterations)),
+                     PCL_ICF_TUNED(fine_iterations)),
       numberField<P>("max_points", 0, kMaxCount, "the refinement's points per iteration (0: all)",
-                     PCL_ICF_ACCESS(refinement.max_points)),
+                     PCL_ICF_TUNED(refinement.max_points)),
       numberField<P>("inlier_distance", 0, inf, "a point within this of the mesh is an inlier",
                      PCL_ICF_ACCESS(acceptance.inlier_distance)),
       numberField<P>("min_surface_coverage", 0, 1,
@@ -88,6 +92,7 @@ FieldRegistry<IcfParams> makeIcfFields() {
 }
 
 #undef PCL_ICF_ACCESS
+#undef PCL_ICF_TUNED
 
 }  // namespace
 

@@ -386,7 +386,7 @@ TEST(Localizer, ASymmetricTargetsSpinsAreOneHypothesis) {
   params.tuning().hypotheses.point_pairs = false;
   params.tuning().hypotheses.clusters = true;
   LocalizerParams control = params;
-  control.tuning().icf.global.distinct_surface = 0.f;
+  control.tuning().icf.tuning().global.distinct_surface = 0.f;
   const auto voted = localization::localizeObject(*desk.present.cloud, *model, defaults);
   const auto found = localization::localizeObject(*desk.present.cloud, *model, params);
   const auto missed = localization::localizeObject(*desk.present.cloud, *model, control);

@@ -127,7 +127,7 @@ TEST(FieldRegistry, NamesReachTheMembersTheySay) {
   set("pp_kept", "55");
   set("max_points", "640");
   set("far_point_gate", "true");
-  EXPECT_EQ(p.tuning().icf.global.keep, 7u);
+  EXPECT_EQ(p.tuning().icf.tuning().global.keep, 7u);
   EXPECT_EQ(p.seed, 12345u);
   EXPECT_EQ(p.threads, 3);
   EXPECT_EQ(p.strategy, pcl::icf::SearchStrategy::Thesis);
@@ -139,7 +139,7 @@ TEST(FieldRegistry, NamesReachTheMembersTheySay) {
   EXPECT_EQ(p.segmentationParams().cluster.tolerance, 0.03);
   EXPECT_EQ(p.tuning().verification.fit_residual, 0.9);
   EXPECT_EQ(p.tuning().hypotheses.voting.kept, 55u);
-  EXPECT_EQ(p.tuning().icf.refinement.max_points, 640u);
+  EXPECT_EQ(p.tuning().icf.tuning().refinement.max_points, 640u);
   EXPECT_TRUE(p.tuning().icf.acceptance.gate.enabled);
 
   TrackerParams t;

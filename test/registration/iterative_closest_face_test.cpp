@@ -204,8 +204,8 @@ TEST(IterativeClosestFace, ThesisStrategyOnAReducedBudget) {
   icf.setInputSource(t.cluster);
   icf.setSearchStrategy(pcl::icf::SearchStrategy::Thesis);
   pcl::icf::IcfParams params = icf.getParams();
-  params.thesis.outer_iterations = 5;
-  params.thesis.orientation_iterations = 20;
+  params.tuning().thesis.outer_iterations = 5;
+  params.tuning().thesis.orientation_iterations = 20;
   icf.setParams(params);
   pcl::PointCloud<pcl::PointXYZ> aligned;
   icf.align(aligned);
@@ -345,7 +345,7 @@ TEST(IterativeClosestFace, BadInputGivesAClearStatusOrException) {
   EXPECT_THROW(icf.align(aligned, guess), std::invalid_argument);
   // Nonsense parameters, named in the message.
   pcl::icf::IcfParams params;
-  params.global.rotations = 0;
+  params.tuning().global.rotations = 0;
   icf.setParams(params);
   try {
     icf.align(aligned);
@@ -374,12 +374,12 @@ TEST(IcfParams, CoarseToFineRefinementLandsWhereFullResolutionDoes) {
   for (std::uint64_t seed = 3000; seed < 3006; ++seed) {
     const std::vector<Eigen::Vector3f> points = trialPoints(makeTrial(box, seed));
     pcl::icf::IcfParams full, uncapped;
-    full.coarse_points = 0;
-    uncapped.coarse_points = 200;
-    uncapped.fine_iterations = uncapped.refinement.max_iterations;
+    full.tuning().coarse_points = 0;
+    uncapped.tuning().coarse_points = 200;
+    uncapped.tuning().fine_iterations = uncapped.tuning().refinement.max_iterations;
     full.threads = uncapped.threads = 1;
     pcl::icf::IcfParams capped = uncapped;
-    capped.fine_iterations = pcl::icf::IcfParams().fine_iterations;
+    capped.tuning().fine_iterations = pcl::icf::IcfParams().tuning().fine_iterations;
     const auto a = pcl::icf::estimatePose(*model, points, Eigen::Vector3f::Zero(), full);
     for (const auto& [params, metres, degrees] :
          {std::tuple{uncapped, 1e-4, 0.05}, std::tuple{capped, 5e-4, 0.25}}) {
@@ -387,7 +387,7 @@ TEST(IcfParams, CoarseToFineRefinementLandsWhereFullResolutionDoes) {
       const auto error =
           pcl::icf::synthetic::poseError(toIsometry(b.object_pose), toIsometry(a.object_pose), {});
       SCOPED_TRACE("seed " + std::to_string(seed) + ", " + std::to_string(points.size()) +
-                   " points, fine_iterations " + std::to_string(params.fine_iterations));
+                   " points, fine_iterations " + std::to_string(params.tuning().fine_iterations));
       EXPECT_LE(error.translation, metres);
       EXPECT_LE(error.rotation_deg, degrees);
       EXPECT_EQ(a.status, b.status);
@@ -408,7 +408,7 @@ TEST(IcfParams, StartCheckSkipsOnlyTheRefinementItRefuses) {
   pcl::icf::IcfParams params;
   params.threads = 1;
   params.fallback = pcl::icf::FallbackPolicy::Off;
-  params.check_candidates = false;
+  params.tuning().check_candidates = false;
   const Eigen::Vector3f camera = Eigen::Vector3f::Zero();
   const auto plain = pcl::icf::estimatePose(*model, points, camera, params);
   ASSERT_TRUE(plain.accepted());
@@ -473,9 +473,9 @@ TEST(IcfParams, CandidateCheckSkipsTheExactRefinementOnlyWhenAllAreRefused) {
   params.fallback = pcl::icf::FallbackPolicy::Off;
   const Eigen::Vector3f camera = Eigen::Vector3f::Zero();
   const auto plain = pcl::icf::estimatePose(*model, points, camera, params);
-  const auto hypotheses =
-      pcl::icf::globalSearch(*model, points, camera, params.global, params.seed, params.threads);
-  ASSERT_GE(hypotheses.size(), params.exact_candidates);
+  const auto hypotheses = pcl::icf::globalSearch(*model, points, camera, params.tuning().global,
+                                                 params.seed, params.threads);
+  ASSERT_GE(hypotheses.size(), params.tuning().exact_candidates);
 
   std::vector<Eigen::Isometry3f> asked;
   const auto refused = pcl::icf::estimatePose(*model, points, camera, params,
@@ -483,15 +483,15 @@ TEST(IcfParams, CandidateCheckSkipsTheExactRefinementOnlyWhenAllAreRefused) {
                                                 asked.push_back(start);
                                                 return false;
                                               }));
-  ASSERT_EQ(asked.size(), params.exact_candidates + 1);
-  for (std::size_t i = 0; i < params.exact_candidates; ++i)
+  ASSERT_EQ(asked.size(), params.tuning().exact_candidates + 1);
+  for (std::size_t i = 0; i < params.tuning().exact_candidates; ++i)
     EXPECT_TRUE(asked[i].isApprox(hypotheses[i].scene_to_model, 0.f)) << "candidate " << i;
   EXPECT_TRUE(asked.back().isApprox(hypotheses.front().scene_to_model, 0.f));
   EXPECT_TRUE(refused.refinement_skipped);
   EXPECT_EQ(refused.status, pcl::icf::IcfStatus::Rejected);
   EXPECT_TRUE(refused.scene_to_model.isApprox(hypotheses.front().scene_to_model.matrix(), 0.f));
 
-  const Eigen::Isometry3f last = hypotheses[params.exact_candidates - 1].scene_to_model;
+  const Eigen::Isometry3f last = hypotheses[params.tuning().exact_candidates - 1].scene_to_model;
   bool last_seen = false;
   const auto one_passes = pcl::icf::estimatePose(
       *model, points, camera, params, withStartCheck([&](const Eigen::Isometry3f& start) {
@@ -580,17 +580,17 @@ TEST(IcfParams, SeenThroughRejectsAPoseTheCameraSeesThrough) {
 TEST(IcfParams, DocumentedDefaultsAreTheRealDefaults) {
   const pcl::icf::IcfParams p;
   // The thesis's values (section 4.2.1, 4.3.2, 6.2) in metres.
-  EXPECT_FLOAT_EQ(p.objective.near_distance, 0.030f);
-  EXPECT_FLOAT_EQ(p.objective.far_factor, 4.f);
-  EXPECT_FLOAT_EQ(p.objective.cutoff, 0.200f);
-  EXPECT_FLOAT_EQ(p.objective.early_exit_distance, 0.050f);
-  EXPECT_EQ(p.objective.early_exit_count, 500);
-  EXPECT_EQ(p.thesis.outer_iterations, 50);
-  EXPECT_EQ(p.thesis.orientation_iterations, 100);
-  EXPECT_EQ(p.thesis.samples_per_kernel, 20);
-  EXPECT_FLOAT_EQ(p.thesis.translation_sigma_step, 0.010f);
-  EXPECT_NEAR(p.thesis.rotation_sigma_step * 180.0 / M_PI, 10.0, 1e-5);
-  EXPECT_EQ(p.thesis.stall_limit, 3);
+  EXPECT_FLOAT_EQ(p.tuning().objective.near_distance, 0.030f);
+  EXPECT_FLOAT_EQ(p.tuning().objective.far_factor, 4.f);
+  EXPECT_FLOAT_EQ(p.tuning().objective.cutoff, 0.200f);
+  EXPECT_FLOAT_EQ(p.tuning().objective.early_exit_distance, 0.050f);
+  EXPECT_EQ(p.tuning().objective.early_exit_count, 500);
+  EXPECT_EQ(p.tuning().thesis.outer_iterations, 50);
+  EXPECT_EQ(p.tuning().thesis.orientation_iterations, 100);
+  EXPECT_EQ(p.tuning().thesis.samples_per_kernel, 20);
+  EXPECT_FLOAT_EQ(p.tuning().thesis.translation_sigma_step, 0.010f);
+  EXPECT_NEAR(p.tuning().thesis.rotation_sigma_step * 180.0 / M_PI, 10.0, 1e-5);
+  EXPECT_EQ(p.tuning().thesis.stall_limit, 3);
   EXPECT_FLOAT_EQ(p.acceptance.gate.distance, 0.027f);
   EXPECT_EQ(p.acceptance.gate.max_points, 5);
   EXPECT_DOUBLE_EQ(p.acceptance.max_seen_through, 0.05);
@@ -767,38 +767,39 @@ TEST(IterativeClosestFaceDropIn, ParamsAndBaseSettersShareOneStore) {
   IcfN icf;
   const pcl::icf::IcfParams defaults;
   // Defaults reach the base's members.
-  EXPECT_EQ(icf.getMaximumIterations(), defaults.refinement.max_iterations);
-  EXPECT_EQ(icf.getTransformationEpsilon(), defaults.refinement.transformation_epsilon);
-  EXPECT_DOUBLE_EQ(icf.getMaxCorrespondenceDistance(), defaults.refinement.initial_inlier_distance);
+  EXPECT_EQ(icf.getMaximumIterations(), defaults.tuning().refinement.max_iterations);
+  EXPECT_EQ(icf.getTransformationEpsilon(), defaults.tuning().refinement.transformation_epsilon);
+  EXPECT_DOUBLE_EQ(icf.getMaxCorrespondenceDistance(),
+                   defaults.tuning().refinement.initial_inlier_distance);
   EXPECT_NEAR(std::acos(icf.getTransformationRotationEpsilon()),
-              defaults.refinement.rotation_epsilon, 1e-9);
+              defaults.tuning().refinement.rotation_epsilon, 1e-9);
   // setParams writes the base's members ...
   pcl::icf::IcfParams p;
-  p.refinement.max_iterations = 17;
-  p.refinement.transformation_epsilon = 1e-8;
-  p.refinement.rotation_epsilon = 1e-3;
-  p.refinement.euclidean_fitness_epsilon = 1e-4;
-  p.refinement.initial_inlier_distance = 0.03f;
+  p.tuning().refinement.max_iterations = 17;
+  p.tuning().refinement.transformation_epsilon = 1e-8;
+  p.tuning().refinement.rotation_epsilon = 1e-3;
+  p.tuning().refinement.euclidean_fitness_epsilon = 1e-4;
+  p.tuning().refinement.initial_inlier_distance = 0.03f;
   icf.setParams(p);
   EXPECT_EQ(icf.getMaximumIterations(), 17);
   EXPECT_EQ(icf.getTransformationEpsilon(), 1e-8);
   EXPECT_EQ(icf.getEuclideanFitnessEpsilon(), 1e-4);
   EXPECT_DOUBLE_EQ(icf.getMaxCorrespondenceDistance(), double(0.03f));
-  EXPECT_NEAR(icf.getParams().refinement.rotation_epsilon, 1e-3, 1e-9);
+  EXPECT_NEAR(icf.getParams().tuning().refinement.rotation_epsilon, 1e-3, 1e-9);
   // ... and the base setters write what getParams() (and align) use; the last call wins.
   icf.setMaximumIterations(9);
   icf.setMaxCorrespondenceDistance(0.004);
   icf.setEuclideanFitnessEpsilon(-1.0);       // PCL's "off"
   icf.setTransformationRotationEpsilon(0.0);  // ICP: 1 - transformation epsilon
   const pcl::icf::IcfParams q = icf.getParams();
-  EXPECT_EQ(q.refinement.max_iterations, 9);
-  EXPECT_FLOAT_EQ(q.refinement.initial_inlier_distance, 0.004f);
-  EXPECT_FLOAT_EQ(q.refinement.final_inlier_distance, 0.004f);  // min(d, 6 mm)
-  EXPECT_EQ(q.refinement.euclidean_fitness_epsilon, 0.0);
-  EXPECT_NEAR(q.refinement.rotation_epsilon, std::acos(1.0 - 1e-8), 1e-9);
+  EXPECT_EQ(q.tuning().refinement.max_iterations, 9);
+  EXPECT_FLOAT_EQ(q.tuning().refinement.initial_inlier_distance, 0.004f);
+  EXPECT_FLOAT_EQ(q.tuning().refinement.final_inlier_distance, 0.004f);  // min(d, 6 mm)
+  EXPECT_EQ(q.tuning().refinement.euclidean_fitness_epsilon, 0.0);
+  EXPECT_NEAR(q.tuning().refinement.rotation_epsilon, std::acos(1.0 - 1e-8), 1e-9);
   EXPECT_NO_THROW(q.validate());
   icf.setParams(p);
-  EXPECT_EQ(icf.getParams().refinement.max_iterations, 17);
+  EXPECT_EQ(icf.getParams().tuning().refinement.max_iterations, 17);
 }
 
 TEST(IterativeClosestFaceDropIn, MaxCorrespondenceDistanceBoundsTheRefinement) {

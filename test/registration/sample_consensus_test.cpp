@@ -213,7 +213,7 @@ TEST(SacParams, DocumentedDefaultsAndValidation) {
   expectNamed(bad, "samples_per_hypothesis");
   // estimatePose validates the SAC params only when the fallback can run.
   pcl::icf::IcfParams icf;
-  icf.sac.max_iterations = 0;
+  icf.tuning().sac.max_iterations = 0;
   EXPECT_THROW(icf.validate(), std::invalid_argument);
   icf.fallback = FallbackPolicy::Off;
   EXPECT_NO_THROW(icf.validate());
@@ -233,9 +233,9 @@ TEST(SacParams, DocumentedDefaultsAndValidation) {
  * leaves part of this single-object cluster unexplained is rejected. */
 pcl::icf::IcfParams crippledSearch(std::size_t points) {
   pcl::icf::IcfParams params;
-  params.global.rotations = 1;
-  params.global.keep = 1;
-  params.exact_candidates = 1;
+  params.tuning().global.rotations = 1;
+  params.tuning().global.keep = 1;
+  params.tuning().exact_candidates = 1;
   params.acceptance.gate.enabled = true;
   params.acceptance.gate.max_points = static_cast<int>(points / 10);
   return params;

@@ -77,15 +77,15 @@ TEST(ThreadDeterminism, ThesisSearchAndSampleConsensusFallback) {
     SCOPED_TRACE(thesis ? "thesis search" : "SampleConsensus (fallback Always)");
     IcfParams params;
     params.seed = 11;
-    params.sac.seed = 12;
+    params.tuning().sac.seed = 12;
     if (thesis) {
       params.strategy = SearchStrategy::Thesis;
       params.fallback = FallbackPolicy::Off;
-      params.thesis.outer_iterations = 4;
-      params.thesis.orientation_iterations = 15;
+      params.tuning().thesis.outer_iterations = 4;
+      params.tuning().thesis.orientation_iterations = 15;
     } else {
       params.fallback = FallbackPolicy::Always;
-      params.sac.max_iterations = 5000;
+      params.tuning().sac.max_iterations = 5000;
     }
     Eigen::Matrix4f first = Eigen::Matrix4f::Zero();
     for (int threads : {1, 2, 3}) {

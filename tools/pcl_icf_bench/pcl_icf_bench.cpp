@@ -230,7 +230,7 @@ void applyIcfOptions(const Options& o, pcl::icf::IcfParams& p) {
   for (const auto& [key, value] : o.icf_fields)
     applyOverride(pcl::icf::icfFields(), p, "--icf", key, value);
   p.threads = o.threads;
-  p.sac = o.sac;
+  p.tuning().sac = o.sac;
 }
 
 /** \a o's ICF parameters: IcfParams' defaults with its --icf fields, threads and SacParams. */
@@ -365,7 +365,7 @@ struct CaseInput {
 pcl::icf::localization::LocalizerParams sceneParams(const Options& o) {
   pcl::icf::localization::LocalizerParams p;
   p.threads = o.threads;
-  p.tuning().icf.sac = o.sac;
+  p.tuning().icf.tuning().sac = o.sac;
   const auto& fields = pcl::icf::localization::localizerFields();
   for (const auto& [key, value] : o.icf_fields)
     applyOverride(fields, p, "--icf", key, value);

@@ -405,7 +405,7 @@ ToolOptions parseToolOptions(int argc, const char* const* argv) {
 
   checkMode(o, positional, idle_given);
   if (keep)
-    p.tuning().icf.global.keep = *keep;
+    p.tuning().icf.tuning().global.keep = *keep;
   for (const std::string& text : sets)
     setRegisteredFields("--set", text, p);
   if (p.colour.expected && !(p.colour.weight >= 0.0))
@@ -495,7 +495,7 @@ std::string usageText(const std::string& program) {
     << "    --min-confidence C       = accept a pose whose verification confidence reaches C\n"
     << "                               (default: " << p.min_confidence << ")\n"
     << "    --keep N                 = search hypotheses refined per cluster (default: "
-    << p.tuning().icf.global.keep << "; more find more partly hidden\n"
+    << p.tuning().icf.tuning().global.keep << "; more find more partly hidden\n"
     << "                               targets on a cluttered desk, and more look-alikes)\n"
     << "    --mesh-accuracy M        = how far the mesh's surface may lie from the object's,\n"
     << "                               metres (default: " << p.mesh_accuracy

@@ -295,7 +295,7 @@ bool ObjectTracker::reacquire(const FrameView& view, const DepthImage& image,
   // tells them apart.
   const std::vector<Eigen::Isometry3f> starts =
       startsWithShifts(globalSearch(*object.model, near, Eigen::Vector3f::Zero(),
-                                    lp.tuning().icf.global, lp.seed, threads),
+                                    lp.tuning().icf.tuning().global, lp.seed, threads),
                        *object.model, params_.tuning().reacquire_shift);
   const int n = static_cast<int>(starts.size());
   DepthVerificationParams verification = lp.verificationParams();

@@ -71,8 +71,9 @@ struct SceneHypotheses {
 struct LocalizerTuning {
   /** The table plane, the points above it and the scene's sanity limits. */
   segmentation::TabletopParams segmentation;
-  /** The registration of each hypothesis. Its acceptance.depth is not read: the seen-through
-   * check uses verification, as everything the localizer judges does. Its far-point gate
+  /** The registration of each hypothesis. Its depth tolerances (tuning().depth, mesh_accuracy,
+   * depth_noise) are not read: the seen-through check uses verification, as everything the
+   * localizer judges does. Its far-point gate
    * allows FarPointGate::kLocalizerMaxFraction of the points (defaultIcf). */
   IcfParams icf = defaultIcf();
   /** The verification that decides (depth_verification.h): the posed model rendered into the
@@ -81,8 +82,8 @@ struct LocalizerTuning {
   DepthVerificationParams verification;
   /** The convexity split of a cluster wider than the model (LocalizerParams::split_merged). */
   segmentation::ConvexitySplitParams split;
-  /** The look-alike turns (LocalizerParams::check_turns); each is refined as icf.refinement
-   * and verified as verification say (TurnChecks). */
+  /** The look-alike turns (LocalizerParams::check_turns); each is refined as
+   * icf.tuning().refinement and verified as verification say (TurnChecks). */
   PoseAlternativeParams alternatives;
   SceneHypotheses hypotheses;
   /** A search's start pose whose confidence is below this is not given the final refinement,

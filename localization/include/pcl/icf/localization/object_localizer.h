@@ -115,7 +115,7 @@ struct LocalizerParams {
   LocalizerTuning& tuning() { return tuning_; }
   const LocalizerTuning& tuning() const { return tuning_; }
   /** What each hypothesis is registered with: tuning().icf with this struct's strategy,
-   * fallback, seed and threads. */
+   * fallback, seed and threads, and the verification's tolerances (verificationParams()). */
   IcfParams icfParams() const;
   /** What the scene is segmented with: tuning().segmentation with this struct's cluster. */
   segmentation::TabletopParams segmentationParams() const;

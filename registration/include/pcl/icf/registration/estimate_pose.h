@@ -4,12 +4,8 @@
  */
 #pragma once
 
-#include <pcl/icf/registration/global_search.h>
 #include <pcl/icf/registration/icf_model.h>
-#include <pcl/icf/registration/objective.h>
-#include <pcl/icf/registration/refinement.h>
-#include <pcl/icf/registration/sample_consensus_alignment.h>
-#include <pcl/icf/registration/thesis_search.h>
+#include <pcl/icf/registration/icf_tuning.h>
 #include <pcl/icf/registration/usable_point.h>
 #include <pcl/icf/verification/depth_verification.h>
 #include <pcl/icf/verification/pose_verification.h>
@@ -87,17 +83,14 @@ struct AcceptanceParams {
   /** The far-point gate (off by default: it assumes the cluster holds nothing but the
    * target). Its distance also sets what PoseQuality::far_points counts. */
   FarPointGate gate;
-  VisibilityParams visibility;
   /** Reject a pose the camera sees through: of the posed model's pixels where the camera could
    * have seen it (explainDepth's supported, seen_through and below_support), the share where
    * the measured depth lies behind it (PoseQuality::seen_through) must be at most this. A
    * partial view fitted onto the wrong side of a model can cover its points well (inliers,
    * rmse, coverage) while the model hides other points of the view behind it. 1 turns the
-   * check off (calibration: doc/TUNING.md, "The depth verification"). */
+   * check off (calibration: doc/TUNING.md, "The depth verification"). Its tolerances scale
+   * with IcfParams::depth_noise and mesh_accuracy. */
   double max_seen_through = 0.05;
-  /** Tolerances of that check (depth_verification.h: the sensor's noise at each depth and the
-   * model's size). */
-  DepthVerificationParams depth;
 
   void validate() const;
 };
@@ -105,43 +98,34 @@ struct AcceptanceParams {
 /** \brief Everything estimatePose needs besides the data. Defaults documented per field;
  * lengths in scene units (metres). */
 struct IcfParams {
+  /** How the pose is searched without a guess. */
   SearchStrategy strategy = SearchStrategy::Fast;
-  GlobalSearchParams global;
-  ThesisSearchParams thesis;
-  ObjectiveParams objective;
-  RefinementParams refinement;
-  /** Best hypotheses of the fast search refined with exact faces before the final choice. */
-  std::size_t exact_candidates = 3;
-  /** Points per iteration when refining those candidates (the final refinement uses
-   * refinement.max_points). */
-  std::size_t candidate_points = 1000;
-  /** With the caller's worth_refining check (estimatePose), the candidates are first checked
-   * as the global search left them: when it refuses every one, none is refined with exact
-   * faces and the search's best is the start as it is (which the same check then refuses:
-   * the cluster's search ends). Most clusters of a real scene are other objects, whose exact
-   * refinement this saves. false: the candidates are always refined. */
-  bool check_candidates = true;
-  /** Without a guess, the final refinement first runs on at most this many points (an evenly
-   * strided subset) through the whole Tukey schedule, then on refinement.max_points from the
-   * smallest radius (coarse to fine: a real cluster of 20-40k points would cost 30
-   * full-resolution iterations otherwise). 0:
-   * one refinement at full resolution. With a guess the refinement is ICP's: one stage, as
-   * configured. */
-  std::size_t coarse_points = 3000;
-  /** At most this many full-resolution iterations after the coarse stage (a pose that fits
-   * converges in 4-7 on real clusters; one that keeps moving is a misfit, and 30 more
-   * full-resolution iterations would not make it fit). */
-  int fine_iterations = 10;
+  /** When a pose is accepted. */
   AcceptanceParams acceptance;
+  /** How far the mesh's surface may lie from the real object's, in metres: about 0 for a CAD
+   * model, 1-2 mm for a scanned mesh (DepthVerificationParams::mesh_accuracy). */
+  float mesh_accuracy = 0.f;
+  /** The camera's depth noise (DepthNoiseModel; a Kinect v1 or Xtion by default), which the
+   * seen-through check's tolerances scale with. */
+  DepthNoiseModel depth_noise;
   /** When the SampleConsensus alignment runs (default Auto: only after a rejection). */
   FallbackPolicy fallback = FallbackPolicy::Auto;
-  /** The SampleConsensus alignment used by the fallback; its own seed (sac.seed). */
-  SacParams sac;
   std::uint64_t seed = 42;
   int threads = 0;  ///< 0: all cores. Results do not depend on it.
 
+  /** The calibration constants (IcfTuning, doc/TUNING.md): the one door to them, for
+   * calibration runs and comparisons. */
+  IcfTuning& tuning() { return tuning_; }
+  const IcfTuning& tuning() const { return tuning_; }
+  /** What the seen-through check uses: tuning().depth with this struct's mesh_accuracy and
+   * depth_noise. */
+  DepthVerificationParams depthParams() const;
+
   /** \throws std::invalid_argument naming the field and value. */
   void validate() const;
+
+ private:
+  IcfTuning tuning_;
 };
 
 /** \brief Outcome of one estimation. */
@@ -190,7 +174,7 @@ struct PoseEstimateOptions {
   IterationCallback callback;  ///< called after every refinement iteration
   /** Called with every start pose of a search (the search's best, SAC's) before its final
    * refinement, and with the fast search's candidates before their exact refinement
-   * (IcfParams::check_candidates); when it returns false that start is not refined nor measured
+   * (IcfTuning::check_candidates); when it returns false that start is not refined nor measured
    * (IcfResult::refinement_skipped; the start is reported as it is, Rejected), and a refused
    * search start ends the search (no SAC fallback after it). Never called with a guess. The
    * localizer passes its depth verification here (LocalizerTuning::refine_min_confidence):
@@ -216,14 +200,14 @@ struct PoseEstimateOptions {
  * depth image (PoseEstimateOptions)
  *
  * The SampleConsensus fallback (params.fallback, sample_consensus_alignment.h): with Auto, when
- * the refined search result is not accepted, sampleConsensusAlign(params.sac) runs on the same
- * points, its pose is refined the same way and measured; the accepted one is kept (the
+ * the refined search result is not accepted, sampleConsensusAlign(params.tuning().sac) runs on the
+ * same points, its pose is refined the same way and measured; the accepted one is kept (the
  * search's when both are), else the one covering more of the model's visible surface. With
  * Always, SAC replaces the search (method "sac+icf"); when it finds nothing the refinement
  * starts from the centroid start (model surface centroid on the cluster centroid, no
  * rotation), which is rarely accepted. The model's features are built on first use and cached
  * (cachedSacModel); SAC runs are serialised process-wide (PCL's aligners use rand()).
- * Deterministic for params.seed and params.sac.seed and independent of params.threads.
+ * Deterministic for params.seed and params.tuning().sac.seed and independent of params.threads.
  *
  * The seen-through check (AcceptanceParams::max_seen_through) compares every measured pose with
  * the scene's depth image (PoseEstimateOptions::camera_image).

@@ -183,6 +183,16 @@ struct DepthVerificationParams {
     return std::max(0.0, 2.0 - share / support_occlusion);
   }
 
+  /** These tolerances for a camera with \a depth_noise and a mesh whose surface lies up to
+   * \a accuracy metres off the object's (the two a user sets; LocalizerParams and IcfParams
+   * carry them). */
+  DepthVerificationParams forSensor(const DepthNoiseModel& depth_noise, float accuracy) const {
+    DepthVerificationParams p = *this;
+    p.noise = depth_noise;
+    p.mesh_accuracy = accuracy;
+    return p;
+  }
+
   /** \throws std::invalid_argument naming the field. */
   void validate() const;
 };

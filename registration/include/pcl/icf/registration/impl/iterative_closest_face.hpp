@@ -97,7 +97,7 @@ void IterativeClosestFace<PointSource, Scalar>::setInputTarget(const PointCloudT
 template <typename PointSource, typename Scalar>
 void IterativeClosestFace<PointSource, Scalar>::setParams(const icf::IcfParams& params) {
   params_ = params;
-  const icf::RefinementParams& r = params.refinement;
+  const icf::RefinementParams& r = params.tuning().refinement;
   max_iterations_ = r.max_iterations;
   transformation_epsilon_ = r.transformation_epsilon;
   transformation_rotation_epsilon_ = std::cos(r.rotation_epsilon);
@@ -108,7 +108,7 @@ void IterativeClosestFace<PointSource, Scalar>::setParams(const icf::IcfParams& 
 template <typename PointSource, typename Scalar>
 icf::IcfParams IterativeClosestFace<PointSource, Scalar>::getParams() const {
   icf::IcfParams p = params_;
-  icf::RefinementParams& r = p.refinement;
+  icf::RefinementParams& r = p.tuning().refinement;
   r.max_iterations = max_iterations_;
   // PCL's conventions: a negative epsilon never stops (ours: 0); NaN stays NaN so that
   // validate() names it.
@@ -124,7 +124,7 @@ icf::IcfParams IterativeClosestFace<PointSource, Scalar>::getParams() const {
   // ICP's "unbounded" default is sqrt(DBL_MAX): keep the radius a finite float.
   r.initial_inlier_distance = static_cast<float>(std::min(corr_dist_threshold_, 1e6));
   r.final_inlier_distance =
-      std::min(params_.refinement.final_inlier_distance, r.initial_inlier_distance);
+      std::min(params_.tuning().refinement.final_inlier_distance, r.initial_inlier_distance);
   return p;
 }
 
@@ -246,7 +246,7 @@ void IterativeClosestFace<PointSource, Scalar>::computeTransformation(PointCloud
   const bool identity = guess.template cast<double>().isIdentity(1e-12);
   const bool from_guess =
       guess_policy_ == GuessPolicy::Always || (guess_policy_ != GuessPolicy::Never && !identity);
-  const float radius = aligned_radius_ = params.refinement.initial_inlier_distance;
+  const float radius = aligned_radius_ = params.tuning().refinement.initial_inlier_distance;
   icf::PoseEstimateOptions search_options;
   search_options.callback = callback;
   icf::PoseEstimateOptions from_guess_options = search_options;

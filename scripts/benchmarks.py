@@ -129,8 +129,10 @@ def output(command):
 
 
 def commit():
-    dirty = output("git status --porcelain --untracked-files=no").strip()
-    return output("git rev-parse --short HEAD").strip() + (" (dirty)" if dirty else "")
+    """HEAD's short hash, and the tracked files that differ from it, if any."""
+    dirty = [l[3:] for l in output("git status --porcelain --untracked-files=no").splitlines() if l]
+    return output("git rev-parse --short HEAD").strip() + (
+        f" (edited: {', '.join(dirty)})" if dirty else "")
 
 
 def machine():
@@ -412,6 +414,15 @@ def md_table_text(text):
 
 # ---- rendering helpers ----
 
+# The README's table of current results: (suite, metric, figure, peer's figure, section), filled
+# by the section renderers from the same figures as the document, in the document's order.
+HEADLINES = []
+
+
+def headline(section, suite, metric, figure, peer=""):
+    HEADLINES.append((section, suite, metric, figure, peer))
+
+
 def met(ok):
     return "met" if ok else "**not met**"
 
@@ -454,6 +465,10 @@ def render_bop(d, rec):
     out = [f"`bop-ycbv` ({head.group(2)} real YCB-Video frames) through `localizeObjects`, "
            f"{head.group(3)} estimates; BOP 2019's errors, ADD(-S) and the suites' rule "
            f"(doc/USER_GUIDE.md, \"BOP\").", *commands(rec), *table(rows[0], rows[1:]), ""]
+    total = rows[-1]
+    headline("bop", "BOP `bop-ycbv` (14 real frames, 38 targets)", "BOP AR · ADD(-S)",
+             f"{total[5].strip('*')} · {total[6]}",
+             f"PCL's GHV as the selection: {statistics.median(ars):.3f}" if ars else "")
     if ars:
         runs = f"{len(ars)} run{'s' if len(ars) > 1 else ''}"
         out.append(f"Peer: PCL's Global Hypotheses Verification as the selection over the same "
@@ -477,6 +492,11 @@ def render_one_call(d, rec):
            "others in one `localizeObjects` call, scored on the case's model.", *commands(rec),
            *table(["", "objects found (right)", "wrong poses", "false poses (absent distractors)",
                    "median per frame"], rows)]
+    if one and single:
+        headline("one_call", "every object of a real frame in one call (+4 absent)",
+                 "found · false poses · time", f"{one[1]}/{one[2]} · {one[4]}/{one[5]} · "
+                 f"{float(single[7]):.2f}x the single calls",
+                 f"one call per model: {single[1]}/{single[2]} · {single[4]}/{single[5]}")
     if single:
         ratio = float(single[7])
         out += [f"| ratio (median of frames) | | | | **{ratio:.2f}** |", "",
@@ -575,6 +595,18 @@ def render_real_clutter(d, rec):
     desk_row_, desk = desk_row("real-like desks (`--kind desk`)", read_cases(d / "desk/desk_cases.csv"))
     prep = model_preparation(d / "real/real.md")
     limits = BARS["real_misses"]
+    real_cases = read_cases(d / "real/real_cases.csv")
+    for label, prefix in (("whole real frames, `ycbv-video0000` (0.55 m)", "ycbv0000-"),
+                          ("whole real frames, `ycbv-video0001` (1 m)", "ycbv0001-")):
+        x = scene_summary([r for r in real_cases if r["group"].startswith(prefix)])
+        headline("real_clutter", label, "found, no guess, whole scene",
+                 f"{x['right']}/{x['present']}, {x['wrong']} wrong")
+    headline("real_clutter", "real frames without the target (`ycbv_absent`)", "false poses",
+             f"{real['false']}/{real['absent']}")
+    headline("real_clutter", "real-like synthetic desks", "found (>= 50% visible · 25-50%) · false poses",
+             f"{pct(desk['half'])} · {pct(desk['mid'])} · {pct(desk['false_share'])}")
+    headline("real_clutter", "synthetic table tops with a look-alike", "found · median time",
+             f"{p['right']}/{p['present']} · {ms(p['ms'])}")
     bands = [[b, f"{r}/{n}", f"{w}/{n}", f"{f}/{na}"] for b, (r, w, n, f, na) in
              range_band_summary(read_cases(d / "desk/desk_cases.csv")).items()]
     return ["`localizeObject` on whole frames, no guess (doc/localizer.md); time per case (one object "
@@ -619,6 +651,8 @@ def render_queries(d, rec):
         rows.append([label, f"{exact.get('faces', math.nan):,.0f}"]
                     + ["" if c != c else rate(c) for c in cells])
     exact, brute, field = get("exactQueries/bunny_r1cm"), get("bruteQueries/bunny"), get("fieldLookups/bunny")
+    headline("queries", "point-to-face queries, Stanford bunny, 1 cm radius", "queries/s per thread",
+             f"{rate(exact)} (field: {rate(field)} lookups)", f"brute force {rate(brute)}")
     errors = md_table(d / "field_error.md")
     within = all(float(r[6]) <= float(r[2]) for r in errors[1:])
     return ["Per thread, rates from CPU time; query points: surface samples displaced by up to 5 mm "
@@ -640,6 +674,18 @@ def render_clusters(d, rec):
     ok = all(float(r[4].rstrip("%")) >= 100 * BARS["cluster_success"] for r in fast)
     quick = all(float(r[7]) <= BARS["cluster_ms"] for r in fast)
     times = [float(r[7]) for r in fast]
+    spread = lambda xs, unit: f"{min(xs):.0f}{unit}" if min(xs) == max(xs) else \
+        f"{min(xs):.0f}-{max(xs):.0f}{unit}"
+    others = []
+    for prefix in ("PCL ICP", "thesis"):
+        rs = [r for r in rows[1:] if r[1].startswith(prefix)]
+        if rs:
+            others.append(f"{rs[0][1].split('(')[0].strip()} "
+                          f"{spread([float(r[4].rstrip('%')) for r in rs], '%')}")
+    headline("clusters", "synthetic Kinect views, thesis's 4 models, no guess",
+             "success · median time per cluster",
+             f"{spread([float(r[4].rstrip('%')) for r in fast], '%')} · {spread(times, ' ms')}",
+             "; ".join(others))
     return ["Synthetic Kinect views of the thesis's four models at random poses 0.7-1.1 m away, no "
             "guess, seeds 5000 on; wall time of `align()` per cluster on both cores, the model prepared "
             "once (not timed).", *commands(rec), *table(rows[0], rows[1:]), "",
@@ -719,6 +765,14 @@ def render_peers(d, rec):
         ok = icf["success"] >= best and (not near or ratio >= BARS["peer_x"])
         verdicts.append(f"{PEER_LABELS[name]} {met(ok)} ({pct(icf['success'])} vs {pct(best)}, "
                         f"{ratio:.1f}x{'' if near else ' the fastest'})")
+    for name, c in columns:
+        icf = c.get("icf-fast+sac")
+        peers = [(m, x) for m, x in c.items() if not m.startswith("icf-") and x["n"]]
+        if icf and icf["n"]:
+            best = max(peers, key=lambda mx: (mx[1]["success"], -mx[1]["ms"]), default=None)
+            headline("peers", f"clusters: {PEER_LABELS[name]} ({icf['n']})", "success · median time",
+                     f"{pct(icf['success'])} · {ms(icf['ms'])}",
+                     f"`{best[0]}` {pct(best[1]['success'])} · {ms(best[1]['ms'])}" if best else "")
     speed = d / "freeform_speed_cases.csv"
     if speed.exists():
         s = {m: cluster_summary(read_cases(speed, m)) for m in ("icf-fast+sac", "o3d-fgr+icp")}
@@ -761,6 +815,7 @@ def render_python(d, rec):
                   r"ms, overhead median ([\d.-]+) ms \(max ([\d.-]+) ms\) = ([\d.-]+)%",
                   (d / "overhead.txt").read_text())
     share = float(m[6]) / 100
+    headline("python", "Python `localize`", "overhead over the C++ call", f"{m[6]}%")
     header = ["calls", "Python call (median)", "C++ `localizeObject` (median)",
               "overhead (median, max)", "share"]
     return ["The call's wall time minus `Localization::total_ms`, `data/demo/tabletop_box5.pcd` with "
@@ -796,6 +851,10 @@ def render_tracking(d, rec):
     real = re.search(r"after the first: (\d+)/(\d+) object-frames posed right, median (\d+) ms",
                      (d / "video0001.txt").read_text())
     refine, t3 = float(cells[7]), statistics.median(three)
+    headline("tracking", "tracking generated sequences (seeds 1515 on)",
+             "within 1 cm / 5 deg while half visible · whole frame", f"{cells[2]} · {whole[1]} ms")
+    headline("tracking", "tracking real `ycbv-video0001`", "object-frames right · per object and frame",
+             f"{real[1]}/{real[2]} · {real[3]} ms")
     rows = [["generated, seeds 1515 on (`bench_tracking.sh`)"] + cells[2:8],
             [f"all {len(list(d.glob('seed*/sequence/seq_*')))}, seeds 1515 and 1616 on"] + every[2:8]]
     header = ["sequences", "within 1 cm / 5 deg (>= 50% visible)", "hidden: accurate",
@@ -843,8 +902,28 @@ def wrap(lines, width=100):
     return out
 
 
-def render(out, doc):
-    """doc/BENCHMARKS.md from the folder out."""
+README_BEGIN = "<!-- results: written by scripts/benchmarks.py from the run of doc/BENCHMARKS.md -->"
+README_END = "<!-- /results -->"
+
+
+def write_readme_table(readme, titles):
+    """The README's table of current results between its markers, from HEADLINES."""
+    text = readme.read_text()
+    if README_BEGIN not in text or README_END not in text:
+        print(f"warning: {rel(readme)} has no results markers; its table is not written", file=sys.stderr)
+        return
+    rows = [[suite, metric, figure, peer, f"\"{titles[section]}\""]
+            for section, suite, metric, figure, peer in HEADLINES]
+    block = [README_BEGIN, *table(["suite", "metric", "pcl_icf", "best peer",
+                                   "section of doc/BENCHMARKS.md"], rows), README_END]
+    head, rest = text.split(README_BEGIN, 1)
+    readme.write_text(head + "\n".join(block) + rest.split(README_END, 1)[1])
+    print(f"wrote {rel(readme)}'s results table ({len(rows)} rows)")
+
+
+def render(out, doc, readme=None):
+    """doc/BENCHMARKS.md from the folder out, and the results table of \a readme when given."""
+    HEADLINES.clear()
     meta = json.loads((out / "run.json").read_text()) if (out / "run.json").exists() else {}
     records = {}
     for name, *_ in SECTIONS:
@@ -888,6 +967,8 @@ def render(out, doc):
         (doc.parent / "img").mkdir(parents=True, exist_ok=True)
         shutil.copyfile(curve, doc.parent / "img/desk_range_curve.png")
     lines = wrap(lines)
+    if readme:
+        write_readme_table(readme, {name: title for name, title, *_ in SECTIONS})
     doc.parent.mkdir(parents=True, exist_ok=True)
     doc.write_text("\n".join(lines) + "\n")
     if len(lines) > 300:
@@ -916,6 +997,11 @@ def check_inputs(a, names):
         fail(f"no shared data at {a.shared} (data/ycbv-video0000 missing): give --shared")
 
 
+def readme(a):
+    """The README whose table the render writes: the repository's, with the default document."""
+    return ROOT / "README.md" if Path(a.doc).resolve() == (ROOT / "doc/BENCHMARKS.md").resolve() else None
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
@@ -939,7 +1025,7 @@ def main():
     if a.render_only:
         if not Path(a.render_only).is_dir():
             fail(f"no folder {a.render_only}")
-        render(Path(a.render_only).resolve(), Path(a.doc))
+        render(Path(a.render_only).resolve(), Path(a.doc), readme(a))
         return 0
     run = Run(a)
     run.out.mkdir(parents=True, exist_ok=True)
@@ -958,7 +1044,7 @@ def main():
                 rec.save(str(e))
     meta["end"] = now()
     (run.out / "run.json").write_text(json.dumps(meta, indent=1))
-    render(run.out, Path(a.doc))
+    render(run.out, Path(a.doc), readme(a))
     if failed:
         print(f"failed: {', '.join(failed)}", file=sys.stderr)
     return 1 if failed else 0

@@ -542,12 +542,14 @@ def render_model_cache(d, rec):
 
 
 def real_rows(d):
+    """The table rows of the real frames, the whole set's summary and each dataset's, by group
+    prefix."""
     rows = read_cases(d / "real/real_cases.csv")
-    out, misses = [], {}
+    out, parts = [], {}
     for label, prefix in (("`ycbv-video0000` (real, 0.55 m)", "ycbv0000-"),
                           ("`ycbv-video0001` (real, 1 m)", "ycbv0001-"), ("YCB-V frame", "ycbv-")):
         s = scene_summary([r for r in rows if r["group"].startswith(prefix)])
-        misses[prefix] = s["present"] - s["right"]
+        parts[prefix] = s
         out.append([label, s["present"], f"**{s['right']}/{s['present']}**", s["wrong"], "", ""])
     s = scene_summary([r for r in rows if r["group"].startswith("absent-")])
     out.append(["`ycbv_absent` (real, target absent)", s["absent"], "", "",
@@ -556,7 +558,7 @@ def real_rows(d):
     stages = ", ".join(f"{k} {v:.0f}" for k, v in st.items())
     out.append(["the real set above, together", len(rows), f"{s['right']}/{s['present']}", s["wrong"],
                 f"{s['false']}/{s['absent']}", f"**{ms(s['ms'])}** ({stages})"])
-    return out, s, misses
+    return out, s, parts
 
 
 def synthetic_rows(d):
@@ -588,17 +590,18 @@ def bar(text, value, limit, at_least=True):
 
 
 def render_real_clutter(d, rec):
-    rows, real, misses = real_rows(d)
+    rows, real, parts = real_rows(d)
+    misses = {prefix: x["present"] - x["right"] for prefix, x in parts.items()}
+    desk_cases = read_cases(d / "desk/desk_cases.csv")
     synthetic, p, a = synthetic_rows(d)
     clutter_row, clutter = desk_row("synthetic clutter (`--kind clutter`)",
                                     read_cases(d.parent / "clutter/clutter_cases.csv", "icf-scene"))
-    desk_row_, desk = desk_row("real-like desks (`--kind desk`)", read_cases(d / "desk/desk_cases.csv"))
+    desk_row_, desk = desk_row("real-like desks (`--kind desk`)", desk_cases)
     prep = model_preparation(d / "real/real.md")
     limits = BARS["real_misses"]
-    real_cases = read_cases(d / "real/real_cases.csv")
     for label, prefix in (("whole real frames, `ycbv-video0000` (0.55 m)", "ycbv0000-"),
                           ("whole real frames, `ycbv-video0001` (1 m)", "ycbv0001-")):
-        x = scene_summary([r for r in real_cases if r["group"].startswith(prefix)])
+        x = parts[prefix]
         headline("real_clutter", label, "found, no guess, whole scene",
                  f"{x['right']}/{x['present']}, {x['wrong']} wrong")
     headline("real_clutter", "real frames without the target (`ycbv_absent`)", "false poses",
@@ -608,7 +611,7 @@ def render_real_clutter(d, rec):
     headline("real_clutter", "synthetic table tops with a look-alike", "found · median time",
              f"{p['right']}/{p['present']} · {ms(p['ms'])}")
     bands = [[b, f"{r}/{n}", f"{w}/{n}", f"{f}/{na}"] for b, (r, w, n, f, na) in
-             range_band_summary(read_cases(d / "desk/desk_cases.csv")).items()]
+             range_band_summary(desk_cases).items()]
     return ["`localizeObject` on whole frames, no guess (doc/localizer.md); time per case (one object "
             "in one frame), segmentation included, models prepared once (not timed). The simulated "
             "camera makes no low-frequency depth error: `depth_systematic=0`.", *commands(rec),

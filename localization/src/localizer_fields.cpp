@@ -123,6 +123,12 @@ FieldRegistry<LocalizerParams> tuningFields() {
       numberField<P>("crease_window", 0, 1,
                      "window of the planes telling a crease, share of the model's diameter",
                      PCL_ICF_TUNING(verification.crease_window)),
+      numberField<P>("local_misfit", 0, inf,
+                     "largest tile offset from the depth in its uncertainties, half the "
+                     "zero-confidence one",
+                     PCL_ICF_TUNING(verification.local_misfit)),
+      numberField<P>("misfit_tile", 0, 1, "side of the misfit's tiles, share of the diameter",
+                     PCL_ICF_TUNING(verification.misfit_tile)),
       numberField<P>("point_pairs", 0, 1, "hypotheses from the whole scene's point pair votes",
                      PCL_ICF_TUNING(hypotheses.point_pairs)),
       numberField<P>("clusters", 0, 1, "hypotheses from each cluster's search",

@@ -30,6 +30,7 @@ py::dict verificationDict(const pcl::icf::DepthExplanation& v) {
       {"silhouette_continuation", &E::silhouette_continuation},
       {"occluder_continuation", &E::occluder_continuation},
       {"occluded_by_support", &E::occluded_by_support},
+      {"local_misfit", &E::local_misfit},
       {"silhouette_offset", &E::silhouette_offset},
       {"allowed_offset", &E::allowed_offset},
       {"sunk_into_support", &E::sunk_into_support},

@@ -64,6 +64,10 @@ void DepthVerificationParams::validate() const {
     fail("support_occlusion", support_occlusion, "must be positive (infinity: off)");
   if (!(crease_window > 0.f && crease_window <= 1.f))
     fail("crease_window", crease_window, "must lie in (0, 1]");
+  if (!(local_misfit > 0.0))
+    fail("local_misfit", local_misfit, "must be positive (infinity: off)");
+  if (!(misfit_tile > 0.f && misfit_tile <= 1.f))
+    fail("misfit_tile", misfit_tile, "must lie in (0, 1]");
 }
 
 namespace {
@@ -743,6 +747,69 @@ int sameVerdictNeighbours(const std::vector<std::uint8_t>& verdict, const Footpr
   return same;
 }
 
+/** The supported pixels' offsets summed over square tiles of the footprint: one tiling and, for
+ * a misfit that straddles its tiles, a second shifted by half a tile both ways. */
+class TileOffsets {
+ public:
+  TileOffsets(const ModelDepth& m, int side) : m_(m), side_(side) {
+    columns_ = (m.u_max - m.u_min) / side + 2;
+    const int rows = (m.v_max - m.v_min) / side + 2;
+    for (auto& tiling : tiles_)
+      tiling.assign(static_cast<std::size_t>(columns_) * rows, Tile{});
+  }
+
+  /** Adds supported pixel (u, v): \a offset metres off the model along its normal, at
+   * \a depth, where the sensor's noise is \a sigma. */
+  void add(int u, int v, double offset, double depth, double sigma) {
+    for (int t = 0; t < 2; ++t) {
+      const int shift = t * side_ / 2;
+      const int x = (u - m_.u_min + shift) / side_, y = (v - m_.v_min + shift) / side_;
+      Tile& tile = tiles_[t][static_cast<std::size_t>(y) * columns_ + x];
+      tile.offset += offset;
+      tile.depth += depth;
+      tile.variance += sigma * sigma;
+      ++tile.pixels;
+    }
+  }
+
+  /** The largest |mean offset| / its uncertainty over the tiles of at least \a min_pixels. */
+  double largestMisfit(const DepthVerificationParams& params, std::size_t min_pixels) const {
+    double largest = 0.0;
+    for (const auto& tiling : tiles_)
+      for (const Tile& tile : tiling) {
+        if (tile.pixels < min_pixels)
+          continue;
+        const double n = static_cast<double>(tile.pixels);
+        const double z = tile.depth / n;
+        const double systematic = params.noise.systematicError(static_cast<float>(z));
+        const double accuracy = params.mesh_accuracy;
+        const double uncertainty = std::sqrt(tile.variance / (n * n) + systematic * systematic +
+                                             accuracy * accuracy);
+        if (uncertainty > 0.0)
+          largest = std::max(largest, std::abs(tile.offset / n) / uncertainty);
+      }
+    return largest;
+  }
+
+ private:
+  struct Tile {
+    double offset = 0.0, depth = 0.0, variance = 0.0;
+    std::size_t pixels = 0;
+  };
+  const ModelDepth& m_;
+  int side_;
+  int columns_;
+  std::vector<Tile> tiles_[2];
+};
+
+/** The side of local misfit's tiles in pixels: misfit_tile x the model's diameter at its
+ * nearest depth, within [4, 40]. */
+int misfitTilePixels(const ModelDepth& m, const PinholeIntrinsics& k, float diameter,
+                     const DepthVerificationParams& params) {
+  const float pixels = params.misfit_tile * diameter * std::max(k.fx, k.fy) / m.nearest;
+  return std::isfinite(pixels) ? std::clamp(static_cast<int>(std::round(pixels)), 4, 40) : 40;
+}
+
 /** The window of occludedBySupport's planes in pixels: crease_window x the model's diameter
  * at its nearest depth, within [4, 24]. */
 int creaseWindowPixels(const ModelDepth& m, const PinholeIntrinsics& k, float diameter,
@@ -932,6 +999,9 @@ std::string describeRefusal(const DepthExplanation& e, double min_confidence,
   if (params.supportOcclusionFactor(e.occluded_by_support) < 1.0)
     why << ", " << percent(e.occluded_by_support)
         << " of it hidden by the surface it lies on (no crease between)";
+  if (params.localMisfitFactor(e.local_misfit) < 1.0)
+    why << ", part of it lies " << std::round(10.0 * e.local_misfit) / 10.0
+        << " uncertainties off the depth (" << params.local_misfit << " allowed)";
   if (params.residualFactor(e.residual) < 1.0)
     why << " and fits the depth at " << std::round(100.0 * e.residual) / 100.0
         << " sigma, full confidence up to " << params.fit_residual;
@@ -954,6 +1024,7 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
   std::size_t count[kVerdicts] = {};
   std::vector<std::size_t> seeds, occluders;
   double squared_offsets = 0.0;
+  TileOffsets tiles(m, misfitTilePixels(m, image.intrinsics(), diameter, params));
   for (int v = m.v_min; v <= m.v_max; ++v)
     for (int u = m.u_min; u <= m.u_max; ++u) {
       const std::size_t i = footprint.at(u, v);
@@ -963,6 +1034,9 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
       if (what == kSupported) {
         seeds.push_back(i);
         squared_offsets += squaredNoiseOffset(m, image, u, v, params);
+        const std::size_t p = static_cast<std::size_t>(v) * m.width + u;
+        tiles.add(u, v, (image.depth(u, v) - m.depth[p]) * m.cosine[p], m.depth[p],
+                  params.noise.sigma(m.depth[p]));
       } else if (what == kOccluded)
         occluders.push_back(i);
       // A conflict is a region, not a pixel: an isolated outlier (a flying pixel, a speckle)
@@ -977,6 +1051,7 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
                     below_support = count[kBelowSupport];
   if (supported > 0)
     e.residual = std::sqrt(squared_offsets / static_cast<double>(supported));
+  e.local_misfit = tiles.largestMisfit(params, DepthVerificationParams::kMinTilePixels);
   const auto out_of_view = static_cast<std::size_t>(
       std::count_if(m.out_of_view_cosines.begin(), m.out_of_view_cosines.end(),
                     [&](float c) { return c >= params.min_view_cosine; }));
@@ -1028,7 +1103,8 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
       params.evidenceFactor(e.supported, e.out_of_view) * params.residualFactor(e.residual) *
       params.edgeOffsetFactor(e.silhouette_offset, e.silhouette_edges, e.allowed_offset) *
       params.sinkFactor(e.sunk_into_support, e.support_tolerance) *
-      params.supportOcclusionFactor(e.occluded_by_support);
+      params.supportOcclusionFactor(e.occluded_by_support) *
+      params.localMisfitFactor(e.local_misfit);
   return e;
 }
 

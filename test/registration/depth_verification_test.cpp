@@ -704,6 +704,57 @@ TEST(DepthVerification, AnObjectInContactMeetsTheModelAtACrease) {
   EXPECT_EQ(e.seen_through, 0.0);
 }
 
+// Box5 facing the camera at 0.8 m, rendered without noise, and the same scan with the box's
+// lower half pushed back along the rays by one sigma(z) of the noise model (a model laid on a
+// stack of two look-alikes whose lower one stands a little back). The oracle is the push: every
+// pixel of the lower half lies exactly d = sigma(z) behind the model's face. Over the whole
+// face the fit stays within the fit rule (residual sqrt(1/2) x d / sigma = 0.71 < fit_residual
+// 0.8); a tile of n pixels wholly in the lower half has a mean offset of d, known to sigma /
+// sqrt(n) (a simulated camera: no low-frequency error), so a 20 x 20-pixel tile (0.15 x the
+// diameter at 0.8 m) reads sqrt(400) = 20 uncertainties, far beyond twice local_misfit (12).
+TEST(DepthVerification, AStepAcrossTheModelIsALocalMisfit) {
+  const RenderedBox box = renderBox(synthetic::ScanNoise::none(), 0.0);
+  const IcfModel::ConstPtr model = IcfModel::build(box.model.mesh);
+  DepthVerificationParams params;
+  params.noise.systematic = 0.f;
+  const Eigen::Isometry3f pose = box.pose.cast<float>();
+  const DepthExplanation right =
+      explainDepth(*model, pose, DepthImage(box.points, PinholeIntrinsics()), params);
+  ASSERT_GT(right.confidence, 0.875);  // the scene this test is about
+  EXPECT_LT(right.local_misfit, 1.0);
+  const Eigen::Vector3f centre = pose.translation();
+  const float d = params.noise.sigma(centre.z());
+  std::vector<Eigen::Vector3f> stepped = box.points;
+  for (Eigen::Vector3f& p : stepped)
+    if (p.allFinite() && p.y() / p.z() > centre.y() / centre.z())
+      p *= (p.z() + d) / p.z();
+  const DepthExplanation e =
+      explainDepth(*model, pose, DepthImage(stepped, PinholeIntrinsics()), params);
+  EXPECT_GT(e.supported, 0.9 * right.supported);  // a sigma is well within the tolerance
+  EXPECT_LT(e.residual, params.fit_residual);
+  EXPECT_GT(e.local_misfit, 15.0);
+  EXPECT_LT(e.local_misfit, 25.0);
+  EXPECT_EQ(params.localMisfitFactor(e.local_misfit), 0.0);
+  EXPECT_EQ(e.confidence, 0.0);
+  EXPECT_NE(describeRefusal(e, 0.875, params).find("uncertainties off the depth"),
+            std::string::npos);
+}
+
+// A real structured-light camera's depth is a staircase (disparity in 1/8-pixel steps: 1.9 mm
+// at 0.8 m), and a face turned to the camera can sit half a step off its mean over a whole tile.
+// With the camera's low-frequency error in the tile's uncertainty (the default
+// DepthNoiseModel::systematic, 1.6 mm at 0.8 m) such a tile reads at most about 0.6
+// uncertainties: the right pose of Box5 facing a simulated Kinect v1 keeps its confidence.
+TEST(DepthVerification, AQuantisedDepthIsNoLocalMisfit) {
+  const RenderedBox box = renderBox(synthetic::ScanNoise::structuredLight(), 0.0);
+  const IcfModel::ConstPtr model = IcfModel::build(box.model.mesh);
+  const DepthVerificationParams params;
+  const DepthExplanation e = explainDepth(*model, box.pose.cast<float>(),
+                                          DepthImage(box.points, PinholeIntrinsics()), params);
+  EXPECT_LT(e.local_misfit, 0.5 * params.local_misfit);
+  EXPECT_EQ(params.localMisfitFactor(e.local_misfit), 1.0);
+}
+
 TEST(DepthVerification, InvalidParametersNameTheField) {
   DepthVerificationParams p;
   p.noise_sigmas = 0.f;
@@ -721,6 +772,12 @@ TEST(DepthVerification, InvalidParametersNameTheField) {
   EXPECT_THROW(p.validate(), std::invalid_argument);
   p = DepthVerificationParams();
   p.crease_window = 0.f;
+  EXPECT_THROW(p.validate(), std::invalid_argument);
+  p = DepthVerificationParams();
+  p.local_misfit = 0.0;
+  EXPECT_THROW(p.validate(), std::invalid_argument);
+  p = DepthVerificationParams();
+  p.misfit_tile = 0.f;
   EXPECT_THROW(p.validate(), std::invalid_argument);
   PinholeIntrinsics k;
   k.fx = -1.f;

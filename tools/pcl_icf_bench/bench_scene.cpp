@@ -40,13 +40,13 @@ std::string verificationTerms(const localization::ClusterLocalization& c) {
                 "isolated=%.4f missing=%.4f out_of_view=%.4f on_background=%.4f "
                 "visible_support=%.4f "
                 "continuation=%.4f band=%zu occluder_continuation=%.4f occluded_by_support=%.4f "
-                "residual=%.3f "
+                "local_misfit=%.2f residual=%.3f "
                 "edge_offset=%.3f edges=%zu allowed_offset=%.3f sunk=%.4f support_tolerance=%.4f "
                 "turned=%d alternatives=%zu colour=%.4f",
                 e.model_pixels, e.supported, e.seen_through, e.occluded, e.below_support,
                 e.isolated_conflicts, e.missing, e.out_of_view, e.on_background, e.visible_support,
                 e.silhouette_continuation, e.silhouette_pixels, e.occluder_continuation,
-                e.occluded_by_support, e.residual, e.silhouette_offset, e.silhouette_edges,
+                e.occluded_by_support, e.local_misfit, e.residual, e.silhouette_offset, e.silhouette_edges,
                 e.allowed_offset, e.sunk_into_support, e.support_tolerance, c.turned ? 1 : 0,
                 c.alternatives.size(), c.colour_similarity ? *c.colour_similarity : -1.0);
   return text;

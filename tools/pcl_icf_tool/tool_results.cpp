@@ -120,6 +120,7 @@ json clusterJson(const localization::ClusterLocalization& c, int index, const Sc
                        {"silhouette_pixels", c.verification.silhouette_pixels},
                        {"occluder_continuation", c.verification.occluder_continuation},
                        {"occluded_by_support", c.verification.occluded_by_support},
+                       {"local_misfit", c.verification.local_misfit},
                        {"silhouette_offset", c.verification.silhouette_offset},
                        {"silhouette_edges", c.verification.silhouette_edges},
                        {"allowed_offset", c.verification.allowed_offset},

@@ -114,6 +114,19 @@ struct DepthVerificationParams {
    * the model's pixels the confidence does not depend on it; beyond, it falls linearly and
    * reaches 0 at twice the share (calibration: doc/TUNING.md, "The depth verification"). */
   double support_occlusion = 0.01;
+  /** A right pose fits the depth everywhere, not only on average; a model laid on a look-alike
+   * (two stacked cylinders posed as one taller can) can fit most of its pixels while one part
+   * of it lies a steady few millimetres off. The supported pixels are cut in square tiles of
+   * misfit_tile x the diameter (at the model's nearest depth, 4-40 pixels; two tilings half a
+   * tile apart); a tile of at least kMinTilePixels gives its mean offset along the normal in
+   * units of its own uncertainty, sqrt(sigma(z)^2 / n + systematic(z)^2 + mesh_accuracy^2)
+   * (the random noise averages out over the tile, the camera's low-frequency error and the
+   * mesh's do not): DepthExplanation::local_misfit is the largest. Up to local_misfit the
+   * confidence does not depend on it; beyond, it falls linearly and reaches 0 at twice it
+   * (calibration: doc/TUNING.md, "The depth verification"). */
+  double local_misfit = 6.0;
+  float misfit_tile = 0.15f;
+  static constexpr std::size_t kMinTilePixels = 12;
   /** The window of the planes that tell a surface carried on from a crease
    * (DepthExplanation::occluded_by_support), as a share of the model's diameter at its
    * nearest depth (4-24 pixels). */
@@ -181,6 +194,14 @@ struct DepthVerificationParams {
     if (share <= support_occlusion)
       return 1.0;
     return std::max(0.0, 2.0 - share / support_occlusion);
+  }
+
+  /** The confidence's factor for a largest tile offset of \a misfit (DepthExplanation::
+   * local_misfit): 1 up to local_misfit, 0 at twice it. */
+  double localMisfitFactor(double misfit) const {
+    if (misfit <= local_misfit)
+      return 1.0;
+    return std::max(0.0, 2.0 - misfit / local_misfit);
   }
 
   /** These tolerances for a camera with \a depth_noise and a mesh whose surface lies up to
@@ -315,10 +336,16 @@ struct DepthExplanation {
    * on dips behind that face with no crease between; a real object in contact with the
    * model (a can standing on a box) meets it at a crease. */
   double occluded_by_support = 0.0;
+  /** The largest mean offset of the supported pixels' depth from the model's surface over a
+   * tile of the footprint, in units of that mean's uncertainty
+   * (DepthVerificationParams::local_misfit): a few for a right pose, more where part of the
+   * model lies steadily off the surface it is laid on. */
+  double local_misfit = 0.0;
   /** In [0, 1]: max(0, 1 - (1 - visible_support) / max_conflict) x max(0, 1 -
    * silhouette_continuation / max_continuation) x evidenceFactor(supported, out_of_view) x
    * residualFactor(residual) x edgeOffsetFactor(silhouette_offset) x
-   * sinkFactor(sunk_into_support) x supportOcclusionFactor(occluded_by_support). What the
+   * sinkFactor(sunk_into_support) x supportOcclusionFactor(occluded_by_support) x
+   * localMisfitFactor(local_misfit). What the
    * localizer ranks and accepts by
    * (doc/localizer.md). */
   double confidence = 0.0;

@@ -186,10 +186,10 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
     options.guess = start->inverse(Eigen::Isometry);
   // A start worth refining never needs more than an accepted pose.
   const double refine_at = std::min(params.tuning().refine_min_confidence, params.min_confidence);
+  const DepthVerificationParams rough = params.verificationParams().forRoughPoses();
   if (refine_at > 0.0)
     options.worth_refining = [&, refine_at](const Eigen::Isometry3f& scene_to_model) {
-      return explainDepth(model, scene_to_model.inverse(Eigen::Isometry), image,
-                          params.verificationParams())
+      return explainDepth(model, scene_to_model.inverse(Eigen::Isometry), image, rough)
                  .confidence >= refine_at;
     };
   c.icf = estimatePose(model, points, kCameraAtOrigin, icf, options);

@@ -207,10 +207,11 @@ std::vector<RankedHypothesis> rankCandidates(
         }))
       unique.push_back(k);
   const int m = static_cast<int>(unique.size());
+  const DepthVerificationParams rough = verification.forRoughPoses();  // refined on the field only
 #pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, threads)) if (m > 1)
   for (int j = 0; j < m; ++j) {
     Ranked& r = ranked[unique[static_cast<std::size_t>(j)]];
-    r.confidence = explainDepth(model, r.pose, image, verification).confidence;
+    r.confidence = explainDepth(model, r.pose, image, rough).confidence;
   }
   std::stable_sort(unique.begin(), unique.end(), [&](std::size_t a, std::size_t b) {
     return ranked[a].confidence > ranked[b].confidence;

@@ -783,8 +783,8 @@ class TileOffsets {
         const double z = tile.depth / n;
         const double systematic = params.noise.systematicError(static_cast<float>(z));
         const double accuracy = params.mesh_accuracy;
-        const double uncertainty = std::sqrt(tile.variance / (n * n) + systematic * systematic +
-                                             accuracy * accuracy);
+        const double uncertainty =
+            std::sqrt(tile.variance / (n * n) + systematic * systematic + accuracy * accuracy);
         if (uncertainty > 0.0)
           largest = std::max(largest, std::abs(tile.offset / n) / uncertainty);
       }
@@ -1051,7 +1051,8 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
                     below_support = count[kBelowSupport];
   if (supported > 0)
     e.residual = std::sqrt(squared_offsets / static_cast<double>(supported));
-  e.local_misfit = tiles.largestMisfit(params, DepthVerificationParams::kMinTilePixels);
+  if (std::isfinite(params.local_misfit))
+    e.local_misfit = tiles.largestMisfit(params, DepthVerificationParams::kMinTilePixels);
   const auto out_of_view = static_cast<std::size_t>(
       std::count_if(m.out_of_view_cosines.begin(), m.out_of_view_cosines.end(),
                     [&](float c) { return c >= params.min_view_cosine; }));

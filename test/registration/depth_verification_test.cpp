@@ -201,7 +201,8 @@ DepthImage scanOfBox(double sx, double sy, double sz, const Eigen::Isometry3d& p
 // and Box5 is posed at its centre. Each face the camera sees lies 2.5 mm (2.8-3.3 sigma at
 // the faces' depths, 0.74-0.84 m: sigma = 1.4 mm x z^2) behind the measured one along its
 // normal, inside the support tolerance (3 sigma + 1.5% of the 17 cm diameter = 5.2 mm):
-// supported and without conflict, so without the residual term the confidence stays high
+// supported and without conflict, so without the residual term (and the local misfit, the
+// same steady offset seen per tile) the confidence stays high
 // (above 0.7; the larger box's 2.5 mm rim reaches into the band around the silhouette, a
 // continuation of about 0.05). With the simulated camera's noise alone (depth_systematic 0, as
 // the simulator makes it) the residual measures the offset (2.4-3.4 sigma allowed: the range of
@@ -214,6 +215,7 @@ TEST(DepthVerification, ALargerLookAlikeFitsWithinToleranceButNotWithinTheNoise)
   EXPECT_LT(explainDepth(*model, box.pose.cast<float>(), own_image, simulated).residual, 1.0);
   DepthVerificationParams off = simulated;
   off.max_residual = std::numeric_limits<double>::infinity();
+  off.local_misfit = std::numeric_limits<double>::infinity();
   EXPECT_DOUBLE_EQ(right.confidence,
                    explainDepth(*model, box.pose.cast<float>(), own_image, off).confidence);
 
@@ -226,7 +228,10 @@ TEST(DepthVerification, ALargerLookAlikeFitsWithinToleranceButNotWithinTheNoise)
   EXPECT_GT(with.residual, 2.4);
   EXPECT_LT(with.residual, 3.4);
   EXPECT_LT(with.confidence, 0.3);
-  EXPECT_NEAR(with.confidence, without.confidence * simulated.residualFactor(with.residual), 1e-9);
+  EXPECT_NEAR(with.confidence,
+              without.confidence * simulated.residualFactor(with.residual) *
+                  simulated.localMisfitFactor(with.local_misfit),
+              1e-9);
 }
 
 // The fit's limits in units of fitSigma against a look-alike closer than the one above: a box
@@ -738,6 +743,13 @@ TEST(DepthVerification, AStepAcrossTheModelIsALocalMisfit) {
   EXPECT_EQ(e.confidence, 0.0);
   EXPECT_NE(describeRefusal(e, 0.875, params).find("uncertainties off the depth"),
             std::string::npos);
+  // A rough pose (a ranked candidate) is not judged on it: the same explanation but the misfit,
+  // and the confidence the other terms give (the step lies within the tolerance and the fit rule).
+  const DepthExplanation rough =
+      explainDepth(*model, pose, DepthImage(stepped, PinholeIntrinsics()), params.forRoughPoses());
+  EXPECT_EQ(rough.local_misfit, 0.0);
+  EXPECT_EQ(rough.supported, e.supported);
+  EXPECT_GT(rough.confidence, 0.875);
 }
 
 // A real structured-light camera's depth is a staircase (disparity in 1/8-pixel steps: 1.9 mm

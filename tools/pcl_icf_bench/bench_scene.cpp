@@ -46,9 +46,10 @@ std::string verificationTerms(const localization::ClusterLocalization& c) {
                 e.model_pixels, e.supported, e.seen_through, e.occluded, e.below_support,
                 e.isolated_conflicts, e.missing, e.out_of_view, e.on_background, e.visible_support,
                 e.silhouette_continuation, e.silhouette_pixels, e.occluder_continuation,
-                e.occluded_by_support, e.local_misfit, e.residual, e.silhouette_offset, e.silhouette_edges,
-                e.allowed_offset, e.sunk_into_support, e.support_tolerance, c.turned ? 1 : 0,
-                c.alternatives.size(), c.colour_similarity ? *c.colour_similarity : -1.0);
+                e.occluded_by_support, e.local_misfit, e.residual, e.silhouette_offset,
+                e.silhouette_edges, e.allowed_offset, e.sunk_into_support, e.support_tolerance,
+                c.turned ? 1 : 0, c.alternatives.size(),
+                c.colour_similarity ? *c.colour_similarity : -1.0);
   return text;
 }
 

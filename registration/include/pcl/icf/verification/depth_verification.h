@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -211,6 +212,15 @@ struct DepthVerificationParams {
     DepthVerificationParams p = *this;
     p.noise = depth_noise;
     p.mesh_accuracy = accuracy;
+    return p;
+  }
+
+  /** These tolerances for a pose refined only roughly (a ranked candidate, a start the
+   * refinement may skip): without the local misfit, which judges a finished fit, where a coarse
+   * pose of the right object lies a steady millimetre off. */
+  DepthVerificationParams forRoughPoses() const {
+    DepthVerificationParams p = *this;
+    p.local_misfit = std::numeric_limits<double>::infinity();
     return p;
   }
 

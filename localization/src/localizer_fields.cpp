@@ -124,10 +124,11 @@ FieldRegistry<LocalizerParams> tuningFields() {
                      "window of the planes telling a crease, share of the model's diameter",
                      PCL_ICF_TUNING(verification.crease_window)),
       numberField<P>("local_misfit", 0, inf,
-                     "largest tile offset from the depth in its uncertainties, half the "
-                     "zero-confidence one",
+                     "largest tile's mean offset from the depth, in its uncertainties, with "
+                     "full confidence (0 at twice it; inf: off)",
                      PCL_ICF_TUNING(verification.local_misfit)),
-      numberField<P>("misfit_tile", 0, 1, "side of the misfit's tiles, share of the diameter",
+      numberField<P>("misfit_tile", 0, 1,
+                     "side of the misfit's tiles, share of the diameter (4-40 pixels)",
                      PCL_ICF_TUNING(verification.misfit_tile)),
       numberField<P>("point_pairs", 0, 1, "hypotheses from the whole scene's point pair votes",
                      PCL_ICF_TUNING(hypotheses.point_pairs)),

@@ -747,6 +747,15 @@ int sameVerdictNeighbours(const std::vector<std::uint8_t>& verdict, const Footpr
   return same;
 }
 
+/** The pixels \a length metres span at the model's nearest depth in \a m (where a length spans
+ * the most pixels), within [\a lo, \a hi]; \a hi when that is not finite. Clamped as a float,
+ * before any conversion to int. */
+float pixelsAtNearestDepth(float length, const ModelDepth& m, const PinholeIntrinsics& k, float lo,
+                           float hi) {
+  const float pixels = length * std::max(k.fx, k.fy) / m.nearest;
+  return std::isfinite(pixels) ? std::clamp(pixels, lo, hi) : hi;
+}
+
 /** The supported pixels' offsets summed over square tiles of the footprint: one tiling and, for
  * a misfit that straddles its tiles, a second shifted by half a tile both ways. */
 class TileOffsets {
@@ -806,16 +815,16 @@ class TileOffsets {
  * nearest depth, within [4, 40]. */
 int misfitTilePixels(const ModelDepth& m, const PinholeIntrinsics& k, float diameter,
                      const DepthVerificationParams& params) {
-  const float pixels = params.misfit_tile * diameter * std::max(k.fx, k.fy) / m.nearest;
-  return std::isfinite(pixels) ? std::clamp(static_cast<int>(std::round(pixels)), 4, 40) : 40;
+  return static_cast<int>(
+      std::round(pixelsAtNearestDepth(params.misfit_tile * diameter, m, k, 4.f, 40.f)));
 }
 
 /** The window of occludedBySupport's planes in pixels: crease_window x the model's diameter
  * at its nearest depth, within [4, 24]. */
 int creaseWindowPixels(const ModelDepth& m, const PinholeIntrinsics& k, float diameter,
                        const DepthVerificationParams& params) {
-  const float pixels = params.crease_window * diameter * std::max(k.fx, k.fy) / m.nearest;
-  return std::isfinite(pixels) ? std::clamp(static_cast<int>(std::ceil(pixels)), 4, 24) : 24;
+  return static_cast<int>(
+      std::ceil(pixelsAtNearestDepth(params.crease_window * diameter, m, k, 4.f, 24.f)));
 }
 
 /** The silhouette margin in pixels for a model of \a diameter rendered in \a m (see
@@ -824,10 +833,8 @@ int silhouetteMarginPixels(const ModelDepth& m, const PinholeIntrinsics& k, floa
                            const DepthVerificationParams& params) {
   if (m.u_max < m.u_min)
     return params.border_pixels;
-  // At the model's nearest depth, where a length spans the most pixels.
-  const float pixels = params.silhouette_margin * diameter * std::max(k.fx, k.fy) / m.nearest;
-  const float bounded = std::isfinite(pixels) ? std::clamp(pixels, 0.f, 16.f) : 16.f;
-  return std::clamp(static_cast<int>(std::ceil(bounded)), params.border_pixels, 16);
+  const float pixels = pixelsAtNearestDepth(params.silhouette_margin * diameter, m, k, 0.f, 16.f);
+  return std::clamp(static_cast<int>(std::ceil(pixels)), params.border_pixels, 16);
 }
 
 /** The camera-facing faces of \a model at \a model_to_camera projected through \a k (faces

@@ -710,13 +710,15 @@ TEST(DepthVerification, AnObjectInContactMeetsTheModelAtACrease) {
 }
 
 // Box5 facing the camera at 0.8 m, rendered without noise, and the same scan with the box's
-// lower half pushed back along the rays by one sigma(z) of the noise model (a model laid on a
-// stack of two look-alikes whose lower one stands a little back). The oracle is the push: every
-// pixel of the lower half lies exactly d = sigma(z) behind the model's face. Over the whole
-// face the fit stays within the fit rule (residual sqrt(1/2) x d / sigma = 0.71 < fit_residual
-// 0.8); a tile of n pixels wholly in the lower half has a mean offset of d, known to sigma /
-// sqrt(n) (a simulated camera: no low-frequency error), so a 20 x 20-pixel tile (0.15 x the
-// diameter at 0.8 m) reads sqrt(400) = 20 uncertainties, far beyond twice local_misfit (12).
+// lower half pushed back along the rays by d = sigma(0.8 m) of the noise model (a model laid on
+// a stack of two look-alikes whose lower one stands a little back). The oracle is the push:
+// every pixel of the lower half lies exactly d behind the model's face, at 0.775 m (d = 1.07
+// sigma there). Over the whole face the fit stays within the fit rule (residual sqrt(1/2) x
+// 1.07 = 0.75 < fit_residual 0.8); a tile of n pixels wholly in the lower half has a mean
+// offset of d, known to sigma / sqrt(n) (a simulated camera: no low-frequency error), so an
+// 18 x 18-pixel tile (0.15 x the 17.4 cm diameter at the nearest depth) reads 1.07 x sqrt(324)
+// = 19 uncertainties, far beyond twice local_misfit (12); the window 15-25 allows for tiles
+// the step's edge cuts.
 TEST(DepthVerification, AStepAcrossTheModelIsALocalMisfit) {
   const RenderedBox box = renderBox(synthetic::ScanNoise::none(), 0.0);
   const IcfModel::ConstPtr model = IcfModel::build(box.model.mesh);

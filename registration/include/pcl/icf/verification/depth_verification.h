@@ -124,9 +124,14 @@ struct DepthVerificationParams {
    * (the random noise averages out over the tile, the camera's low-frequency error and the
    * mesh's do not): DepthExplanation::local_misfit is the largest. Up to local_misfit the
    * confidence does not depend on it; beyond, it falls linearly and reaches 0 at twice it
-   * (calibration: doc/TUNING.md, "The depth verification"). */
+   * (calibration: doc/TUNING.md, "The depth verification"). The uncertainty needs the
+   * camera's low-frequency error: with noise.systematic 0 (a simulated camera) the right pose
+   * on a real camera's depth reads far beyond the limit. Infinity: not measured. */
   double local_misfit = 6.0;
+  /** The side of local_misfit's tiles, as a share of the model's diameter at its nearest depth
+   * (4-40 pixels). */
   float misfit_tile = 0.15f;
+  /** The supported pixels a tile needs to count: fewer give a mean too noisy to judge. */
   static constexpr std::size_t kMinTilePixels = 12;
   /** The window of the planes that tell a surface carried on from a crease
    * (DepthExplanation::occluded_by_support), as a share of the model's diameter at its
@@ -349,7 +354,8 @@ struct DepthExplanation {
   /** The largest mean offset of the supported pixels' depth from the model's surface over a
    * tile of the footprint, in units of that mean's uncertainty
    * (DepthVerificationParams::local_misfit): a few for a right pose, more where part of the
-   * model lies steadily off the surface it is laid on. */
+   * model lies steadily off the surface it is laid on; 0 when not measured (an infinite limit,
+   * DepthVerificationParams::forRoughPoses). */
   double local_misfit = 0.0;
   /** In [0, 1]: max(0, 1 - (1 - visible_support) / max_conflict) x max(0, 1 -
    * silhouette_continuation / max_continuation) x evidenceFactor(supported, out_of_view) x

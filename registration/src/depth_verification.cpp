@@ -726,14 +726,17 @@ double occludedBySupport(const Footprint& f, const std::vector<std::uint8_t>& ve
   return static_cast<double>(crossed) / n;
 }
 
-/** (Offset of the measured depth from model pixel (u, v)'s surface along its normal /
- * fitSigma)^2. */
-double squaredNoiseOffset(const ModelDepth& m, const DepthImage& image, int u, int v,
-                          const DepthVerificationParams& params) {
+/** The offset of the measured depth from model pixel (u, v)'s surface along its normal,
+ * metres. */
+float normalOffset(const ModelDepth& m, const DepthImage& image, int u, int v) {
   const std::size_t i = static_cast<std::size_t>(v) * m.width + u;
-  const double off = (image.depth(u, v) - m.depth[i]) * m.cosine[i];
-  const double sigma = params.fitSigma(m.depth[i]);
-  return off * off / (sigma * sigma);
+  return (image.depth(u, v) - m.depth[i]) * m.cosine[i];
+}
+
+/** (\a offset along the normal of a model pixel at \a depth / fitSigma)^2. */
+double squaredNoiseOffset(double offset, float depth, const DepthVerificationParams& params) {
+  const double sigma = params.fitSigma(depth);
+  return offset * offset / (sigma * sigma);
 }
 
 /** How many of the 4 neighbours of (u, v) share its verdict. */
@@ -1031,7 +1034,10 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
   std::size_t count[kVerdicts] = {};
   std::vector<std::size_t> seeds, occluders;
   double squared_offsets = 0.0;
-  TileOffsets tiles(m, misfitTilePixels(m, image.intrinsics(), diameter, params));
+  // The tiles only where the local misfit is measured: not for the ranking's rough poses.
+  std::optional<TileOffsets> tiles;
+  if (std::isfinite(params.local_misfit))
+    tiles.emplace(m, misfitTilePixels(m, image.intrinsics(), diameter, params));
   for (int v = m.v_min; v <= m.v_max; ++v)
     for (int u = m.u_min; u <= m.u_max; ++u) {
       const std::size_t i = footprint.at(u, v);
@@ -1040,10 +1046,11 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
         continue;
       if (what == kSupported) {
         seeds.push_back(i);
-        squared_offsets += squaredNoiseOffset(m, image, u, v, params);
-        const std::size_t p = static_cast<std::size_t>(v) * m.width + u;
-        tiles.add(u, v, (image.depth(u, v) - m.depth[p]) * m.cosine[p], m.depth[p],
-                  params.noise.sigma(m.depth[p]));
+        const float depth = m.depth[static_cast<std::size_t>(v) * m.width + u];
+        const double offset = normalOffset(m, image, u, v);
+        squared_offsets += squaredNoiseOffset(offset, depth, params);
+        if (tiles)
+          tiles->add(u, v, offset, depth, params.noise.sigma(depth));
       } else if (what == kOccluded)
         occluders.push_back(i);
       // A conflict is a region, not a pixel: an isolated outlier (a flying pixel, a speckle)
@@ -1058,8 +1065,8 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
                     below_support = count[kBelowSupport];
   if (supported > 0)
     e.residual = std::sqrt(squared_offsets / static_cast<double>(supported));
-  if (std::isfinite(params.local_misfit))
-    e.local_misfit = tiles.largestMisfit(params, DepthVerificationParams::kMinTilePixels);
+  if (tiles)
+    e.local_misfit = tiles->largestMisfit(params, DepthVerificationParams::kMinTilePixels);
   const auto out_of_view = static_cast<std::size_t>(
       std::count_if(m.out_of_view_cosines.begin(), m.out_of_view_cosines.end(),
                     [&](float c) { return c >= params.min_view_cosine; }));

@@ -105,21 +105,30 @@ void sortEstimates(std::vector<BopEstimate>& rows) {
                    [&](const BopEstimate& a, const BopEstimate& b) { return key(a) < key(b); });
 }
 
-void writeBopCsv(const fs::path& path, const std::vector<BopEstimate>& rows) {
+void writeBopCsv(const fs::path& path, const std::vector<BopEstimate>& rows, CsvPoses poses) {
   std::string text = "scene_id,im_id,obj_id,score,R,t,time\n";
-  char buf[512];
+  char buf[768];
   for (const BopEstimate& e : rows) {
-    // The nearest rotation (U V^T of the SVD): the localizer's rotations are computed in float
-    // and stray from orthonormal by up to about 1e-6, which the 9 decimals written would show.
-    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(e.pose.linear(),
-                                                Eigen::ComputeFullU | Eigen::ComputeFullV);
-    const Eigen::Matrix3d R = svd.matrixU() * svd.matrixV().transpose();
+    Eigen::Matrix3d R = e.pose.linear();
+    if (poses == CsvPoses::kBop) {
+      // The nearest rotation (U V^T of the SVD): the localizer's rotations are computed in float
+      // and stray from orthonormal by up to about 1e-6, which the 9 decimals written would show.
+      const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+      R = svd.matrixU() * svd.matrixV().transpose();
+    }
     const Eigen::Vector3d t = e.pose.translation();
-    std::snprintf(
-        buf, sizeof buf,
-        "%d,%d,%d,%.6f,%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f,%.6f %.6f %.6f,%.3f\n",
-        e.scene_id, e.im_id, e.obj_id, e.score, R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1),
-        R(1, 2), R(2, 0), R(2, 1), R(2, 2), t.x(), t.y(), t.z(), e.seconds);
+    if (poses == CsvPoses::kBop)
+      std::snprintf(
+          buf, sizeof buf,
+          "%d,%d,%d,%.6f,%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f,%.6f %.6f %.6f,%.3f\n",
+          e.scene_id, e.im_id, e.obj_id, e.score, R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1),
+          R(1, 2), R(2, 0), R(2, 1), R(2, 2), t.x(), t.y(), t.z(), e.seconds);
+    else
+      std::snprintf(buf, sizeof buf,
+                    "%d,%d,%d,%.17g,%.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g,"
+                    "%.17g %.17g %.17g,%.17g\n",
+                    e.scene_id, e.im_id, e.obj_id, e.score, R(0, 0), R(0, 1), R(0, 2), R(1, 0),
+                    R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2), t.x(), t.y(), t.z(), e.seconds);
     text += buf;
   }
   writeWhole(path, text);
@@ -214,7 +223,7 @@ std::string bopRunKey(const std::string& dataset, const std::string& split, cons
 
 void writeBopShard(const fs::path& out_dir, const std::string& base, const BopShard& shard,
                    const std::string& run_key, const std::vector<BopEstimate>& rows) {
-  writeBopCsv(out_dir / shardName(base, shard, ".csv"), rows);
+  writeBopCsv(out_dir / shardName(base, shard, ".csv"), rows, CsvPoses::kExact);
   const nlohmann::json record = {
       {"run_key", run_key}, {"shard", shard.index}, {"shards", shard.count}, {"rows", rows.size()}};
   writeWhole(out_dir / shardName(base, shard, ".json"), record.dump(2) + "\n");

@@ -31,9 +31,15 @@ struct BopEstimate {
  * of every CSV written, so one process and any number of shards give the same file. */
 void sortEstimates(std::vector<BopEstimate>& rows);
 
+/** How writeBopCsv writes a pose: as BOP's CSV (the nearest rotation, 9 decimals; translation
+ * and score 6) or exactly (every number to 17 significant digits, the rotation as computed), for
+ * the shard files a merge reads back, so that merged shards write what one process writes. */
+enum class CsvPoses { kBop, kExact };
+
 /** Writes \a rows as BOP's CSV at \a path: to a temporary beside it, renamed when complete.
  * \throws std::runtime_error when it cannot be written. */
-void writeBopCsv(const std::filesystem::path& path, const std::vector<BopEstimate>& rows);
+void writeBopCsv(const std::filesystem::path& path, const std::vector<BopEstimate>& rows,
+                 CsvPoses poses = CsvPoses::kBop);
 
 /** Reads a results CSV as writeBopCsv writes it. \throws pcl::icf::io::FileError naming the
  * file and line of a malformed row. */

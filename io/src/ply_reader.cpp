@@ -14,6 +14,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <utility>
 
 namespace pcl {
 namespace icf {
@@ -65,27 +66,25 @@ bool parseScalar(const std::string& name, Scalar& t) {
   return false;
 }
 
-/** Lowest and highest value of an integer type. */
-void integerRange(Scalar t, double& lo, double& hi) {
-  switch (t) {
-    case pcl::PCLPointField::INT8:
-      lo = -128.0, hi = 127.0;
-      return;
-    case pcl::PCLPointField::UINT8:
-      lo = 0.0, hi = 255.0;
-      return;
-    case pcl::PCLPointField::INT16:
-      lo = -32768.0, hi = 32767.0;
-      return;
-    case pcl::PCLPointField::UINT16:
-      lo = 0.0, hi = 65535.0;
-      return;
-    case pcl::PCLPointField::INT32:
-      lo = -2147483648.0, hi = 2147483647.0;
-      return;
-    default:
-      lo = 0.0, hi = 4294967295.0;
-  }
+template <typename T>
+std::pair<double, double> limitsOf() {
+  return {static_cast<double>(std::numeric_limits<T>::lowest()),
+          static_cast<double>(std::numeric_limits<T>::max())};
+}
+
+/** Lowest and highest value of an integer type (the last of parseScalar's, UINT32, by default). */
+std::pair<double, double> integerRange(Scalar t) {
+  using F = pcl::PCLPointField;
+  static const std::pair<Scalar, std::pair<double, double>> ranges[] = {
+      {F::INT8, limitsOf<std::int8_t>()},
+      {F::UINT8, limitsOf<std::uint8_t>()},
+      {F::INT16, limitsOf<std::int16_t>()},
+      {F::UINT16, limitsOf<std::uint16_t>()},
+      {F::INT32, limitsOf<std::int32_t>()}};
+  for (const auto& r : ranges)
+    if (r.first == t)
+      return r.second;
+  return limitsOf<std::uint32_t>();
 }
 
 /** The bytes of the PLY body as typed values: ascii tokens or binary fields. */
@@ -159,8 +158,7 @@ class Body {
     if (out_of_range)  // beyond double: keep the sign, let the float conversion give +-inf
       v = (*first == '-') ? -INFINITY : INFINITY;
     if (isInteger(t)) {
-      double lo, hi;
-      integerRange(t, lo, hi);
+      const auto [lo, hi] = integerRange(t);
       if (!(v >= lo && v <= hi && v == std::floor(v)))
         throw FileError(path_ + ": '" + printable(std::string(start, p)) + "' in the " + what +
                         " is not an integer of its declared type (malformed PLY file)");

@@ -35,7 +35,8 @@ class PointFaceDistance : public ::testing::Test {
 };
 
 using ScalarTypes = ::testing::Types<float, double>;
-TYPED_TEST_SUITE(PointFaceDistance, ScalarTypes);
+// The name generator given: clang -Wpedantic warns on an empty variadic argument.
+TYPED_TEST_SUITE(PointFaceDistance, ScalarTypes, ::testing::internal::DefaultNameGenerator);
 
 TYPED_TEST(PointFaceDistance, TriangleEveryRegion) {
   using S = TypeParam;

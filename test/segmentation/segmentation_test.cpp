@@ -468,7 +468,7 @@ TEST(ExtractClusters, GridMatchesPclOnRandomBlobs) {
 template <typename PointT>
 class SegmentTabletopTyped : public ::testing::Test {};
 using PrecompiledTypes = ::testing::Types<pcl::PointXYZ, pcl::PointXYZRGB, pcl::PointXYZRGBA>;
-TYPED_TEST_SUITE(SegmentTabletopTyped, PrecompiledTypes);
+TYPED_TEST_SUITE(SegmentTabletopTyped, PrecompiledTypes, ::testing::internal::DefaultNameGenerator);
 
 TYPED_TEST(SegmentTabletopTyped, TwoBoxesTwoClusters) {
   SyntheticScene<TypeParam> scene;

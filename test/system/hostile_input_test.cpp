@@ -38,18 +38,11 @@
 namespace {
 
 namespace fs = std::filesystem;
-using pcl::icf::FaceMesh;
-using pcl::icf::IcfModel;
-using pcl::icf::IcfParams;
-using pcl::icf::IcfResult;
-using pcl::icf::IcfStatus;
-using pcl::icf::InvalidMeshError;
-using pcl::icf::io::EmptyCloudError;
-using pcl::icf::io::FileError;
-using pcl::icf::io::loadPolygonMesh;
-using pcl::icf::io::loadSceneCloud;
-using pcl::icf::localization::LocalizationStatus;
-using pcl::icf::localization::LocalizerParams;
+using pcl::icf::FaceMesh, pcl::icf::IcfModel, pcl::icf::IcfParams, pcl::icf::IcfResult,
+    pcl::icf::IcfStatus, pcl::icf::InvalidMeshError;
+using pcl::icf::io::EmptyCloudError, pcl::icf::io::FileError, pcl::icf::io::loadPolygonMesh,
+    pcl::icf::io::loadSceneCloud;
+using pcl::icf::localization::LocalizationStatus, pcl::icf::localization::LocalizerParams;
 namespace synthetic = pcl::icf::synthetic;
 
 /** The tests run under ASan/UBSan too (PCL_ICF_SANITIZED=1): the address-space limit is then

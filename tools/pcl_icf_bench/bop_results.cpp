@@ -21,6 +21,7 @@
 #include <regex>
 #include <sstream>
 #include <tuple>
+#include <utility>
 
 namespace pcl_icf_bench {
 
@@ -182,23 +183,22 @@ BopShard parseShard(const std::string& text) {
   return checkedShard(part(text.substr(0, slash)), part(text.substr(slash + 1)), "--shard " + text);
 }
 
+/** The launcher's (index, count) from two variables: both set, or neither ({-1, -1}). */
+std::pair<long, long> environmentPair(const char* index_name, const char* count_name) {
+  const long index = environmentInteger(index_name, 0);
+  const long count = environmentInteger(count_name, 1);
+  if ((index < 0) != (count < 0))
+    throw UsageError(std::string(index_name) + " and " + count_name +
+                     ": one is set without the other");
+  return {index, count};
+}
+
 BopShard shardFromEnvironment() {
-  const long rank = environmentInteger("OMPI_COMM_WORLD_RANK", 0);
-  const long size = environmentInteger("OMPI_COMM_WORLD_SIZE", 1);
-  if (rank >= 0 || size >= 0) {
-    if (rank < 0 || size < 0)
-      throw UsageError(
-          "OMPI_COMM_WORLD_RANK and OMPI_COMM_WORLD_SIZE: one is set without the "
-          "other");
+  const auto [rank, size] = environmentPair("OMPI_COMM_WORLD_RANK", "OMPI_COMM_WORLD_SIZE");
+  if (rank >= 0)
     return checkedShard(rank + 1, size, "OMPI_COMM_WORLD_RANK/SIZE");
-  }
-  const long id = environmentInteger("SLURM_ARRAY_TASK_ID", 0);
-  const long count = environmentInteger("SLURM_ARRAY_TASK_COUNT", 1);
-  if (id >= 0 || count >= 0) {
-    if (id < 0 || count < 0)
-      throw UsageError(
-          "SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT: one is set without the "
-          "other");
+  const auto [id, count] = environmentPair("SLURM_ARRAY_TASK_ID", "SLURM_ARRAY_TASK_COUNT");
+  if (id >= 0) {
     const long min = environmentInteger("SLURM_ARRAY_TASK_MIN", 0);
     return checkedShard(id - std::max(min, 0L) + 1, count, "SLURM_ARRAY_TASK_ID/COUNT/MIN");
   }

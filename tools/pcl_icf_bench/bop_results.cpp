@@ -111,25 +111,24 @@ void writeBopCsv(const fs::path& path, const std::vector<BopEstimate>& rows, Csv
   char buf[768];
   for (const BopEstimate& e : rows) {
     Eigen::Matrix3d R = e.pose.linear();
+    const Eigen::Vector3d t = e.pose.translation();
     if (poses == CsvPoses::kBop) {
       // The nearest rotation (U V^T of the SVD): the localizer's rotations are computed in float
       // and stray from orthonormal by up to about 1e-6, which the 9 decimals written would show.
       const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
       R = svd.matrixU() * svd.matrixV().transpose();
-    }
-    const Eigen::Vector3d t = e.pose.translation();
-    if (poses == CsvPoses::kBop)
       std::snprintf(
           buf, sizeof buf,
           "%d,%d,%d,%.6f,%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f,%.6f %.6f %.6f,%.3f\n",
           e.scene_id, e.im_id, e.obj_id, e.score, R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1),
           R(1, 2), R(2, 0), R(2, 1), R(2, 2), t.x(), t.y(), t.z(), e.seconds);
-    else
+    } else {
       std::snprintf(buf, sizeof buf,
                     "%d,%d,%d,%.17g,%.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g,"
                     "%.17g %.17g %.17g,%.17g\n",
                     e.scene_id, e.im_id, e.obj_id, e.score, R(0, 0), R(0, 1), R(0, 2), R(1, 0),
                     R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2), t.x(), t.y(), t.z(), e.seconds);
+    }
     text += buf;
   }
   writeWhole(path, text);

@@ -89,6 +89,52 @@ void describeTurn(const Eigen::Isometry3f& from, PoseAlternative& alt) {
   alt.translation_offset = (alt.object_pose.translation() - from.translation()).norm();
 }
 
+/** \a c's pose becomes \a pose (model -> camera), verified as \a verification: its quality on
+ * \a points, its score (the colour factor kept) and the points it explains follow. */
+void adoptPose(ClusterLocalization& c, const Eigen::Isometry3f& pose,
+               const DepthExplanation& verification, const SceneView& view,
+               const std::vector<Eigen::Vector3f>& points, const IcfModel& model,
+               const LocalizerParams& params) {
+  const double colour_factor =
+      c.verification.confidence > 0.0 ? c.score / c.verification.confidence : 1.0;
+  const Eigen::Isometry3f scene_to_model = pose.inverse();
+  c.icf.object_pose = pose.matrix();
+  c.icf.scene_to_model = scene_to_model.matrix();
+  c.icf.quality = measurePoseQuality(
+      model, points, scene_to_model, kCameraAtOrigin,
+      params.tuning().icf.acceptance.inlier_distance, params.tuning().icf.acceptance.gate.distance,
+      params.tuning().icf.tuning().objective, params.tuning().icf.tuning().visibility);
+  c.verification = verification;
+  c.score = c.verification.confidence * colour_factor;
+  c.explained =
+      explainedPoints(view, c.indices, model, scene_to_model, params.verificationParams());
+}
+
+/** The judged pose refined once more with exact faces on up to final_points of its crop
+ * (SceneHypotheses::final_points), from the fine start radius, and verified again; it replaces
+ * the judged pose when it explains the depth better. The hypotheses and their turns are refined
+ * on small subsets so that many are cheap, and the subset's optimum can sit far enough from the
+ * crop's to cost a right pose its fit. */
+void refineOnTheWholeCrop(ClusterLocalization& c, const SceneView& view, const DepthImage& image,
+                          const IcfModel& model, const LocalizerParams& params, int threads) {
+  const SceneHypotheses& hp = params.tuning().hypotheses;
+  const std::vector<Eigen::Vector3f> points = usablePoints(view, c.indices);
+  if (points.empty())
+    return;
+  RefinementParams fine = params.tuning().icf.tuning().refinement;
+  fine.max_points = hp.final_points;
+  fine.initial_inlier_distance = std::max(fine.final_inlier_distance, hp.fine_start_radius);
+  fine.max_iterations = std::min(fine.max_iterations, hp.fine_iterations);
+  const RefinementResult refined =
+      refinePose(model.index(), points, Eigen::Isometry3f(c.icf.scene_to_model), fine, threads);
+  const Eigen::Isometry3f pose = refined.scene_to_model.inverse();
+  const DepthExplanation verification =
+      explainDepth(renderModelDepth(model, pose, image.intrinsics()), image, 2.f * model.radius(),
+                   params.verificationParams());
+  if (verification.confidence > c.verification.confidence)
+    adoptPose(c, pose, verification, view, points, model, params);
+}
+
 /** A pose against its turns about the model's principal axes (turnedAlternatives): a turn
  * that explains the depth clearly better (by more than the margin) replaces it; the others as
  * good (within the margin) are recorded as its alternatives. */
@@ -117,20 +163,7 @@ void resolveTurns(ClusterLocalization& c, const SceneView& view, const DepthImag
       chosen = k;
   const PoseAlternative winner = candidates[chosen];
   if (chosen != 0) {
-    const double colour_factor =
-        c.verification.confidence > 0.0 ? c.score / c.verification.confidence : 1.0;
-    const Eigen::Isometry3f scene_to_model = winner.object_pose.inverse();
-    c.icf.object_pose = winner.object_pose.matrix();
-    c.icf.scene_to_model = scene_to_model.matrix();
-    c.icf.quality = measurePoseQuality(model, points, scene_to_model, kCameraAtOrigin,
-                                       params.tuning().icf.acceptance.inlier_distance,
-                                       params.tuning().icf.acceptance.gate.distance,
-                                       params.tuning().icf.tuning().objective,
-                                       params.tuning().icf.tuning().visibility);
-    c.verification = winner.verification;
-    c.score = c.verification.confidence * colour_factor;
-    c.explained =
-        explainedPoints(view, c.indices, model, scene_to_model, params.verificationParams());
+    adoptPose(c, winner.object_pose, winner.verification, view, points, model, params);
     c.turned = true;
   }
   c.alternatives.clear();
@@ -221,6 +254,8 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
   // landed on a near-symmetric flip that explains the depth a little worse.
   if (axes && isPromising(c, params))
     resolveTurns(c, view, image, model, *axes, params);
+  if (start && isPromising(c, params))
+    refineOnTheWholeCrop(c, view, image, model, params, icf_threads);
   c.reason = rejection(c, params);
   c.accepted = c.reason.empty();
   return c;

@@ -168,6 +168,9 @@ FieldRegistry<LocalizerParams> tuningFields() {
                      PCL_ICF_TUNING(hypotheses.crop_margin)),
       numberField<P>("refine_points", 1, kMaxCount, "points of a hypothesis's refinement",
                      PCL_ICF_TUNING(hypotheses.refine_points)),
+      numberField<P>("final_points", 1, kMaxCount,
+                     "points of the last refinement of a pose worth judging",
+                     PCL_ICF_TUNING(hypotheses.final_points)),
   };
 }
 

@@ -59,6 +59,13 @@ synthetic::SyntheticModel scenarioModel(const std::string& name) {
   return synthetic::thesisModel(name);
 }
 
+/** The real scene at \a path (empty, with a failure, when it cannot be read). */
+pcl::PointCloud<pcl::PointXYZRGB> loadScene(const std::string& path) {
+  pcl::PointCloud<pcl::PointXYZRGB> scene;
+  EXPECT_EQ(pcl::io::loadPCDFile(path, scene), 0) << path;
+  return scene;
+}
+
 class ThesisScenarios : public ::testing::TestWithParam<Scenario> {};
 
 // Tolerances: the target stands upright, seen from 0.6 m at 45 degrees with the Kinect-like
@@ -530,8 +537,8 @@ TEST_P(YcbObjects, FoundInTheMergedClusterWithin1cm) {
   PCL_ICF_REQUIRE_SHARED(gt_path, "ycbv/gt.json");
   const std::string object = GetParam();
   PCL_ICF_REQUIRE_SHARED(mesh_path, "ycbv/" + object + ".obj");
-  pcl::PointCloud<pcl::PointXYZRGB> scene;
-  ASSERT_EQ(pcl::io::loadPCDFile(scene_path, scene), 0);
+  const pcl::PointCloud<pcl::PointXYZRGB> scene = loadScene(scene_path);
+  ASSERT_FALSE(scene.empty());
   const pcl::PolygonMesh mesh = io::loadPolygonMesh(mesh_path);
   const IcfModel::ConstPtr model = IcfModel::build(mesh);
   const auto result = localization::localizeObject(scene, *model);
@@ -592,8 +599,8 @@ TEST(Localizer, ASimulatedCamerasFitRefusesARealFrameAndSaysSo) {
   PCL_ICF_REQUIRE_SHARED(scene_path, "ycbv-video0000/scenes/ycbv0000_000002.pcd");
   PCL_ICF_REQUIRE_SHARED(mesh_path, "ycbv-video0000/models/ycb_009_gelatin_box.ply");
   PCL_ICF_REQUIRE_SHARED(gt_path, "ycbv-video0000/cases/y0000_002_gelatin_box/gt.json");
-  pcl::PointCloud<pcl::PointXYZRGB> scene;
-  ASSERT_EQ(pcl::io::loadPCDFile(scene_path, scene), 0);
+  const pcl::PointCloud<pcl::PointXYZRGB> scene = loadScene(scene_path);
+  ASSERT_FALSE(scene.empty());
   const IcfModel::ConstPtr model = IcfModel::build(io::loadPolygonMesh(mesh_path));
   const Eigen::Vector3d truth = ycbTruth(gt_path, "ycb_009_gelatin_box").translation();
   const auto offBy = [&](const localization::ClusterLocalization& c) {
@@ -623,6 +630,32 @@ TEST(Localizer, ASimulatedCamerasFitRefusesARealFrameAndSaysSo) {
     EXPECT_NE(c.reason.find("fits the depth at"), std::string::npos) << c.reason;
   }
   EXPECT_TRUE(right_pose_judged) << refused.message;
+}
+
+// ycbv-video0001 frame 3 (the Xtion at 1 m): the sugar box's search lands on its flip, a turn
+// about its long axis that the scoring rule counts as right (ADD-S 1.9 mm). Refined on the
+// 3000-point subsets the hypotheses and turns use, that pose fits the depth at 0.90 fit sigmas
+// and is refused at 0.872 < 0.875; refined once more on its whole crop it fits within the 0.8
+// of full confidence (SceneHypotheses::final_points). Checked against the annotation: the mesh's
+// surface centroid (fixed by the flip) within 1 cm, the rule's translation bar, and the accepted
+// pose's residual within fit_residual.
+TEST(Localizer, AJudgedPoseIsRefinedOnItsWholeCrop) {
+  PCL_ICF_REQUIRE_SHARED(scene_path, "ycbv-video0001/scenes/ycbv0001_000003.pcd");
+  PCL_ICF_REQUIRE_SHARED(mesh_path, "ycbv-video0001/models/ycb_004_sugar_box.ply");
+  PCL_ICF_REQUIRE_SHARED(gt_path, "ycbv-video0001/cases/y0001_003_sugar_box/gt.json");
+  const pcl::PointCloud<pcl::PointXYZRGB> scene = loadScene(scene_path);
+  ASSERT_FALSE(scene.empty());
+  const IcfModel::ConstPtr model = IcfModel::build(io::loadPolygonMesh(mesh_path));
+  const Eigen::Vector3d centroid = model->mesh().surfaceCentroid().cast<double>();
+  const Eigen::Vector3d truth = ycbTruth(gt_path, "ycb_004_sugar_box") * centroid;
+
+  const localization::LocalizerParams params;
+  const auto found = localization::localizeObject(scene, *model, params);
+  ASSERT_EQ(found.status, LocalizationStatus::Found) << found.message;
+  const auto& best = found.clusters[static_cast<std::size_t>(found.best)];
+  EXPECT_LT((Eigen::Isometry3d(best.icf.object_pose.cast<double>()) * centroid - truth).norm(),
+            0.01);
+  EXPECT_LE(best.verification.residual, params.verificationParams().fit_residual);
 }
 
 }  // namespace

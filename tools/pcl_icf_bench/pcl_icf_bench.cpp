@@ -26,7 +26,7 @@
 //                          tool's --set): fit_residual, max_residual, full_evidence,
 //                          max_conflict, max_continuation; clusters, point_pairs, per_cluster,
 //                          judged, per_location, min_prescore, hypothesis_crop_margin,
-//                          refine_points, pp_kept, pp_per_place, pp_references,
+//                          refine_points, final_points, pp_kept, pp_per_place, pp_references,
 //                          pp_reference_share, pp_rescored, pp_peaks, pp_spread, ...; --tuning
 //                          also takes the models' point pair table: pp_step, pp_coplanar, pp_cap
 //                          and the camera's: depth_systematic=0 for the simulated scenes of

@@ -64,10 +64,11 @@ pcl::Indices explainedPoints(const SceneView& view, const pcl::PointIndices& ind
   return explained;
 }
 
-/** True when \a judged's pose is worth more work (its turns, a refit of its cluster's rest):
- * accepted, or at least half the confidence an acceptance needs. */
+/** True when \a judged's pose is worth more work (its turns, a last refinement on its crop):
+ * accepted, or at least promising_share of the confidence an acceptance needs. */
 bool isPromising(const ClusterLocalization& judged, const LocalizerParams& params) {
-  return judged.accepted || judged.verification.confidence >= 0.5 * params.min_confidence;
+  return judged.accepted ||
+         judged.verification.confidence >= params.tuning().promising_share * params.min_confidence;
 }
 
 /** The usable points of \a indices. */

@@ -84,6 +84,8 @@ void LocalizerTuning::validate() const {
   hypotheses.validate();
   if (!(refine_min_confidence >= 0.0 && refine_min_confidence <= 1.0))
     fail("refine_min_confidence", refine_min_confidence, "must lie in [0, 1]");
+  if (!(promising_share >= 0.0 && promising_share <= 1.0))
+    fail("promising_share", promising_share, "must lie in [0, 1]");
   if (!(min_points_in_front >= 0.0 && min_points_in_front <= 1.0))
     fail("min_points_in_front", min_points_in_front, "must lie in [0, 1]");
   if (!(max_shared_points >= 0.0 && max_shared_points < 1.0))

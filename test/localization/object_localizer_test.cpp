@@ -632,30 +632,62 @@ TEST(Localizer, ASimulatedCamerasFitRefusesARealFrameAndSaysSo) {
   EXPECT_TRUE(right_pose_judged) << refused.message;
 }
 
-// ycbv-video0001 frame 3 (the Xtion at 1 m): the sugar box's search lands on its flip, a turn
-// about its long axis that the scoring rule counts as right (ADD-S 1.9 mm). Refined on the
-// 3000-point subsets the hypotheses and turns use, that pose fits the depth at 0.90 fit sigmas
-// and is refused at 0.872 < 0.875; refined once more on its whole crop it fits within the 0.8
-// of full confidence (SceneHypotheses::final_points). Checked against the annotation: the mesh's
-// surface centroid (fixed by the flip) within 1 cm, the rule's translation bar, and the accepted
-// pose's residual within fit_residual.
+/** ycbv-video0001's sugar box (the Xtion at 1 m) in frame \a frame: the scene, the model and
+ * the annotated position of the mesh's surface centroid, which a turn about a principal axis
+ * (the box's flip, which the scoring rule counts as right) leaves in place. */
+struct SugarBoxAtOneMetre {
+  pcl::PointCloud<pcl::PointXYZRGB> scene;
+  IcfModel::ConstPtr model;
+  Eigen::Vector3d centroid, truth;
+
+  SugarBoxAtOneMetre(const std::string& scene_path, const std::string& mesh_path,
+                     const std::string& gt_path)
+      : scene(loadScene(scene_path)),
+        model(IcfModel::build(io::loadPolygonMesh(mesh_path))),
+        centroid(model->mesh().surfaceCentroid().cast<double>()),
+        truth(ycbTruth(gt_path, "ycb_004_sugar_box") * centroid) {}
+
+  /** The centroid's distance from the annotation at \a c's pose (metres). */
+  double offBy(const localization::ClusterLocalization& c) const {
+    return (Eigen::Isometry3d(c.icf.object_pose.cast<double>()) * centroid - truth).norm();
+  }
+};
+
+// Frame 3: the search lands on the flip (ADD-S 1.9 mm). Refined on the 3000-point subsets the
+// hypotheses and turns use, the pose fits the depth at 0.90 fit sigmas and is refused at
+// 0.872 < 0.875; refined once more on its whole crop (SceneHypotheses::final_points) it fits
+// within the 0.8 of full confidence. Checked against the annotation: the centroid within 1 cm
+// (the rule's translation bar) and the accepted pose's residual within fit_residual.
 TEST(Localizer, AJudgedPoseIsRefinedOnItsWholeCrop) {
   PCL_ICF_REQUIRE_SHARED(scene_path, "ycbv-video0001/scenes/ycbv0001_000003.pcd");
   PCL_ICF_REQUIRE_SHARED(mesh_path, "ycbv-video0001/models/ycb_004_sugar_box.ply");
   PCL_ICF_REQUIRE_SHARED(gt_path, "ycbv-video0001/cases/y0001_003_sugar_box/gt.json");
-  const pcl::PointCloud<pcl::PointXYZRGB> scene = loadScene(scene_path);
-  ASSERT_FALSE(scene.empty());
-  const IcfModel::ConstPtr model = IcfModel::build(io::loadPolygonMesh(mesh_path));
-  const Eigen::Vector3d centroid = model->mesh().surfaceCentroid().cast<double>();
-  const Eigen::Vector3d truth = ycbTruth(gt_path, "ycb_004_sugar_box") * centroid;
+  const SugarBoxAtOneMetre box(scene_path, mesh_path, gt_path);
+  ASSERT_FALSE(box.scene.empty());
 
   const localization::LocalizerParams params;
-  const auto found = localization::localizeObject(scene, *model, params);
+  const auto found = localization::localizeObject(box.scene, *box.model, params);
   ASSERT_EQ(found.status, LocalizationStatus::Found) << found.message;
   const auto& best = found.clusters[static_cast<std::size_t>(found.best)];
-  EXPECT_LT((Eigen::Isometry3d(best.icf.object_pose.cast<double>()) * centroid - truth).norm(),
-            0.01);
+  EXPECT_LT(box.offBy(best), 0.01);
   EXPECT_LE(best.verification.residual, params.verificationParams().fit_residual);
+}
+
+// Frame 4: the search's best pose is a wrong turn that explains the depth at 0.43, and its
+// turns include the right one (0.90). Turns are tried from promising_share (0.25) of the
+// confidence an acceptance needs: the box is found within 1 cm of the annotation. (From half of
+// it, the earlier rule, the right turn was never made on an Intel Xeon and was on an AMD EPYC,
+// where the search landed elsewhere: the last digits of the search decide, so no control here.)
+TEST(Localizer, AWeakPosesTurnsAreTried) {
+  PCL_ICF_REQUIRE_SHARED(scene_path, "ycbv-video0001/scenes/ycbv0001_000004.pcd");
+  PCL_ICF_REQUIRE_SHARED(mesh_path, "ycbv-video0001/models/ycb_004_sugar_box.ply");
+  PCL_ICF_REQUIRE_SHARED(gt_path, "ycbv-video0001/cases/y0001_004_sugar_box/gt.json");
+  const SugarBoxAtOneMetre box(scene_path, mesh_path, gt_path);
+  ASSERT_FALSE(box.scene.empty());
+
+  const auto found = localization::localizeObject(box.scene, *box.model);
+  ASSERT_EQ(found.status, LocalizationStatus::Found) << found.message;
+  EXPECT_LT(box.offBy(found.clusters[static_cast<std::size_t>(found.best)]), 0.01);
 }
 
 }  // namespace

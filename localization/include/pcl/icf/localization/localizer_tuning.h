@@ -95,6 +95,10 @@ struct LocalizerTuning {
    * and a refused start ends that cluster's search (estimatePose's worth_refining); used as
    * min(refine_min_confidence, LocalizerParams::min_confidence). 0: every start is refined. */
   double refine_min_confidence = 0.01;
+  /** A judged pose with at least this share of the confidence an acceptance needs
+   * (LocalizerParams::min_confidence) is worth more work: its turns are tried and it is
+   * refined once more on its whole crop (SceneHypotheses::final_points). */
+  double promising_share = 0.25;
   /** The scene must lie in front of the camera: at least this share of its finite points at
    * positive depth, else BadScene (a camera pose given the wrong way round). */
   double min_points_in_front = 0.5;

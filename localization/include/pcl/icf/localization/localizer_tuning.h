@@ -57,9 +57,10 @@ struct SceneHypotheses {
   std::size_t refine_points = 3000;
   float fine_start_radius = 0.01f;
   int fine_iterations = 15;
-  /** A pose worth judging (at least half the confidence an acceptance needs) is refined once
-   * more, as above but on up to final_points of its crop: a subset's optimum lies a fraction of
-   * a millimetre from the whole crop's, which at 1 m is a tenth of the fit's unit
+  /** A promising judged pose (LocalizerTuning::promising_share) is refined once more, as above
+   * but on final_points of its crop (the refinement's stride: RefinementParams::max_points), and
+   * kept when it explains the depth better: a subset's optimum lies a fraction of a millimetre
+   * from the whole crop's, which at 1 m is a tenth of the fit's unit
    * (DepthVerificationParams::fitSigma) and decides a right pose near the limit. */
   std::size_t final_points = 20000;
 

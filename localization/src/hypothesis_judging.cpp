@@ -65,10 +65,16 @@ pcl::Indices explainedPoints(const SceneView& view, const pcl::PointIndices& ind
 }
 
 /** True when \a judged's pose is worth more work (its turns, a last refinement on its crop):
- * accepted, or at least promising_share of the confidence an acceptance needs. */
+ * at least promising_share of the confidence an acceptance needs. */
 bool isPromising(const ClusterLocalization& judged, const LocalizerParams& params) {
-  return judged.accepted ||
-         judged.verification.confidence >= params.tuning().promising_share * params.min_confidence;
+  return judged.verification.confidence >= params.tuning().promising_share * params.min_confidence;
+}
+
+/** The factor the colour cue gives \a c's score: 1 without the cue. */
+double colourFactor(const ClusterLocalization& c, const LocalizerParams& params) {
+  if (!c.colour_similarity)
+    return 1.0;
+  return std::pow(std::max(1e-3, *c.colour_similarity), params.colour.weight);
 }
 
 /** The usable points of \a indices. */
@@ -96,8 +102,6 @@ void adoptPose(ClusterLocalization& c, const Eigen::Isometry3f& pose,
                const DepthExplanation& verification, const SceneView& view,
                const std::vector<Eigen::Vector3f>& points, const IcfModel& model,
                const LocalizerParams& params) {
-  const double colour_factor =
-      c.verification.confidence > 0.0 ? c.score / c.verification.confidence : 1.0;
   const Eigen::Isometry3f scene_to_model = pose.inverse();
   c.icf.object_pose = pose.matrix();
   c.icf.scene_to_model = scene_to_model.matrix();
@@ -106,20 +110,21 @@ void adoptPose(ClusterLocalization& c, const Eigen::Isometry3f& pose,
       params.tuning().icf.acceptance.inlier_distance, params.tuning().icf.acceptance.gate.distance,
       params.tuning().icf.tuning().objective, params.tuning().icf.tuning().visibility);
   c.verification = verification;
-  c.score = c.verification.confidence * colour_factor;
+  c.score = c.verification.confidence * colourFactor(c, params);
   c.explained =
       explainedPoints(view, c.indices, model, scene_to_model, params.verificationParams());
 }
 
-/** The judged pose refined once more with exact faces on up to final_points of its crop
- * (SceneHypotheses::final_points), from the fine start radius, and verified again; it replaces
- * the judged pose when it explains the depth better. The hypotheses and their turns are refined
- * on small subsets so that many are cheap, and the subset's optimum can sit far enough from the
+/** The judged pose refined once more with exact faces on \a points, its crop's usable points
+ * (strided to final_points: SceneHypotheses::final_points), from the fine start radius, and
+ * verified again; it replaces the judged pose when it explains the depth better, and the turns
+ * reported beside it are measured from it again. The hypotheses and their turns are refined on
+ * small subsets so that many are cheap, and the subset's optimum can sit far enough from the
  * crop's to cost a right pose its fit. */
-void refineOnTheWholeCrop(ClusterLocalization& c, const SceneView& view, const DepthImage& image,
-                          const IcfModel& model, const LocalizerParams& params, int threads) {
+void refineOnTheCrop(ClusterLocalization& c, const std::vector<Eigen::Vector3f>& points,
+                     const SceneView& view, const DepthImage& image, const IcfModel& model,
+                     const LocalizerParams& params, int threads) {
   const SceneHypotheses& hp = params.tuning().hypotheses;
-  const std::vector<Eigen::Vector3f> points = usablePoints(view, c.indices);
   if (points.empty())
     return;
   RefinementParams fine = params.tuning().icf.tuning().refinement;
@@ -130,18 +135,29 @@ void refineOnTheWholeCrop(ClusterLocalization& c, const SceneView& view, const D
       refinePose(model.index(), points, Eigen::Isometry3f(c.icf.scene_to_model), fine, threads);
   const Eigen::Isometry3f pose = refined.scene_to_model.inverse();
   const DepthExplanation verification =
-      explainDepth(renderModelDepth(model, pose, image.intrinsics()), image, 2.f * model.radius(),
-                   params.verificationParams());
-  if (verification.confidence > c.verification.confidence)
-    adoptPose(c, pose, verification, view, points, model, params);
+      explainDepth(model, pose, image, params.verificationParams());
+  if (!(verification.confidence > c.verification.confidence))
+    return;
+  adoptPose(c, pose, verification, view, points, model, params);
+  c.icf.refinement_iterations = refined.iterations;
+  c.icf.refinement_converged = refined.converged;
+  const double margin = params.tuning().alternatives.confidence_margin;
+  c.alternatives.erase(std::remove_if(c.alternatives.begin(), c.alternatives.end(),
+                                      [&](const PoseAlternative& alt) {
+                                        return alt.verification.confidence <
+                                               c.verification.confidence - margin;
+                                      }),
+                       c.alternatives.end());
+  for (PoseAlternative& alt : c.alternatives)
+    describeTurn(pose, alt);
 }
 
 /** A pose against its turns about the model's principal axes (turnedAlternatives): a turn
  * that explains the depth clearly better (by more than the margin) replaces it; the others as
  * good (within the margin) are recorded as its alternatives. */
-void resolveTurns(ClusterLocalization& c, const SceneView& view, const DepthImage& image,
-                  const IcfModel& model, const PrincipalAxes& axes, const LocalizerParams& params) {
-  const std::vector<Eigen::Vector3f> points = usablePoints(view, c.indices);
+void resolveTurns(ClusterLocalization& c, const std::vector<Eigen::Vector3f>& points,
+                  const SceneView& view, const DepthImage& image, const IcfModel& model,
+                  const PrincipalAxes& axes, const LocalizerParams& params) {
   const PoseAlternativeParams& ap = params.tuning().alternatives;
   const TurnChecks checks{params.tuning().icf.tuning().refinement, params.verificationParams()};
   const Eigen::Isometry3f found(c.icf.object_pose);
@@ -231,32 +247,33 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
     c.reason = "too few points (" + std::to_string(c.icf.points) + ")";
     return c;
   }
-  const Eigen::Isometry3f model_to_camera(c.icf.object_pose);
-  const ModelDepth rendered = renderModelDepth(model, model_to_camera, image.intrinsics());
-  c.verification = explainDepth(rendered, image, 2.f * model.radius(), params.verificationParams());
+  c.verification =
+      explainDepth(model, Eigen::Isometry3f(c.icf.object_pose), image, params.verificationParams());
   c.explained = explainedPoints(view, indices, model, Eigen::Isometry3f(c.icf.scene_to_model),
                                 params.verificationParams());
-  const FarPointGate& gate = params.tuning().icf.acceptance.gate;
-  if (gate.enabled) {
-    c.gate_far_points = gateFarPoints(points, model, Eigen::Isometry3f(c.icf.scene_to_model),
-                                      rendered, image, gate, single_object);
-    c.gate_passed = c.gate_far_points <= gate.allowed(points.size());
-  }
-  double colour_factor = 1.0;
   if (expected && !view.colours.empty()) {
     ColourHistogram h(params.colour.bins);
     for (const auto i : indices.indices)
       h.add(view.colours[static_cast<std::size_t>(i)]);
     c.colour_similarity = h.intersection(*expected);
-    colour_factor = std::pow(std::max(1e-3, *c.colour_similarity), params.colour.weight);
   }
-  c.score = c.verification.confidence * colour_factor;
-  // A promising pose is checked against its turns before it is judged: the search may have
-  // landed on a near-symmetric flip that explains the depth a little worse.
-  if (axes && isPromising(c, params))
-    resolveTurns(c, view, image, model, *axes, params);
-  if (start && isPromising(c, params))
-    refineOnTheWholeCrop(c, view, image, model, params, icf_threads);
+  c.score = c.verification.confidence * colourFactor(c, params);
+  // A promising pose is checked against its turns before it is judged (the search may have
+  // landed on a near-symmetric flip that explains the depth a little worse), then refined on
+  // more of its crop.
+  if (isPromising(c, params)) {
+    if (axes)
+      resolveTurns(c, points, view, image, model, *axes, params);
+    refineOnTheCrop(c, points, view, image, model, params, icf_threads);
+  }
+  const FarPointGate& gate = params.tuning().icf.acceptance.gate;
+  if (gate.enabled) {
+    const Eigen::Isometry3f model_to_camera(c.icf.object_pose);
+    c.gate_far_points = gateFarPoints(points, model, model_to_camera.inverse(),
+                                      renderModelDepth(model, model_to_camera, image.intrinsics()),
+                                      image, gate, single_object);
+    c.gate_passed = c.gate_far_points <= gate.allowed(points.size());
+  }
   c.reason = rejection(c, params);
   c.accepted = c.reason.empty();
   return c;

@@ -85,7 +85,8 @@ FieldRegistry<LocalizerParams> tuningFields() {
                      "a search start below this confidence is not refined",
                      PCL_ICF_TUNING(refine_min_confidence)),
       numberField<P>("promising_share", 0, 1,
-                     "share of min_confidence from which a judged pose's turns are tried",
+                     "share of min_confidence from which a judged pose's turns and last "
+                     "refinement are tried",
                      PCL_ICF_TUNING(promising_share)),
       numberField<P>("max_shared_points", 0, 1,
                      "two instances sharing more of their points are one",
@@ -169,10 +170,10 @@ FieldRegistry<LocalizerParams> tuningFields() {
       numberField<P>("hypothesis_crop_margin", 0, inf,
                      "a hypothesis is judged on the points in its box grown by this x diameter",
                      PCL_ICF_TUNING(hypotheses.crop_margin)),
-      numberField<P>("refine_points", 1, kMaxCount, "points of a hypothesis's refinement",
+      numberField<P>("refine_points", 10, kMaxCount, "points of a hypothesis's refinement",
                      PCL_ICF_TUNING(hypotheses.refine_points)),
-      numberField<P>("final_points", 1, kMaxCount,
-                     "points of the last refinement of a pose worth judging",
+      numberField<P>("final_points", 10, kMaxCount,
+                     "points of the last refinement of a promising pose",
                      PCL_ICF_TUNING(hypotheses.final_points)),
   };
 }

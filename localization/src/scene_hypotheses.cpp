@@ -44,8 +44,8 @@ void SceneHypotheses::validate() const {
     fail("crop_margin", crop_margin, "must lie in [0, 2] (a share of the diameter)");
   if (refine_points < 10)
     fail("refine_points", refine_points, "must be >= 10");
-  if (final_points < refine_points)
-    fail("final_points", final_points, "must be >= refine_points");
+  if (final_points < 10)
+    fail("final_points", final_points, "must be >= 10");
   if (!(fine_start_radius > 0.f && std::isfinite(fine_start_radius)))
     fail("fine_start_radius", fine_start_radius, "must be positive and finite");
   if (fine_iterations < 1)

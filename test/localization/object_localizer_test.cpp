@@ -673,11 +673,11 @@ TEST(Localizer, AJudgedPoseIsRefinedOnItsWholeCrop) {
   EXPECT_LE(best.verification.residual, params.verificationParams().fit_residual);
 }
 
-// Frame 4: the search's best pose is a wrong turn that explains the depth at 0.43, and its
+// Frame 4: the search's best pose can be a wrong turn that explains the depth at 0.43, whose
 // turns include the right one (0.90). Turns are tried from promising_share (0.25) of the
-// confidence an acceptance needs: the box is found within 1 cm of the annotation. (From half of
-// it, the earlier rule, the right turn was never made on an Intel Xeon and was on an AMD EPYC,
-// where the search landed elsewhere: the last digits of the search decide, so no control here.)
+// confidence an acceptance needs: the box is found within 1 cm of the annotation. Where the
+// search lands depends on its last digits (on one machine the right pose directly), so whether
+// the answer is a turn is not checked.
 TEST(Localizer, AWeakPosesTurnsAreTried) {
   PCL_ICF_REQUIRE_SHARED(scene_path, "ycbv-video0001/scenes/ycbv0001_000004.pcd");
   PCL_ICF_REQUIRE_SHARED(mesh_path, "ycbv-video0001/models/ycb_004_sugar_box.ply");
@@ -687,7 +687,8 @@ TEST(Localizer, AWeakPosesTurnsAreTried) {
 
   const auto found = localization::localizeObject(box.scene, *box.model);
   ASSERT_EQ(found.status, LocalizationStatus::Found) << found.message;
-  EXPECT_LT(box.offBy(found.clusters[static_cast<std::size_t>(found.best)]), 0.01);
+  const auto& best = found.clusters[static_cast<std::size_t>(found.best)];
+  EXPECT_LT(box.offBy(best), 0.01);
 }
 
 }  // namespace

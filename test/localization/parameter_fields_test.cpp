@@ -127,6 +127,8 @@ TEST(FieldRegistry, NamesReachTheMembersTheySay) {
   set("pp_kept", "55");
   set("max_points", "640");
   set("far_point_gate", "true");
+  set("final_points", "5000");
+  set("promising_share", "0.3");
   EXPECT_EQ(p.tuning().icf.tuning().global.keep, 7u);
   EXPECT_EQ(p.seed, 12345u);
   EXPECT_EQ(p.threads, 3);
@@ -141,6 +143,8 @@ TEST(FieldRegistry, NamesReachTheMembersTheySay) {
   EXPECT_EQ(p.tuning().hypotheses.voting.kept, 55u);
   EXPECT_EQ(p.tuning().icf.tuning().refinement.max_points, 640u);
   EXPECT_TRUE(p.tuning().icf.acceptance.gate.enabled);
+  EXPECT_EQ(p.tuning().hypotheses.final_points, 5000u);
+  EXPECT_EQ(p.tuning().promising_share, 0.3);
 
   TrackerParams t;
   pcl::icf::setFieldText(pcl::icf::findField(trackerFields(), "refine_max_points"), t, "321");
@@ -185,6 +189,18 @@ TEST(FieldRegistry, RefusesWrongKindsRangesAndNamesNamingTheField) {
   EXPECT_NE(unknown.find("keep"), std::string::npos);
   // Nothing refused was written.
   EXPECT_EQ(texts(fields, p), texts(fields, LocalizerParams{}));
+}
+
+// The judging's fields set in code, past the registry: validate() names the field.
+TEST(FieldRegistry, ValidateNamesTheJudgingsFields) {
+  LocalizerParams few;
+  few.tuning().hypotheses.final_points = 9;
+  EXPECT_NE(refusal([&] { few.validate(); }).find("final_points"), std::string::npos);
+  LocalizerParams share;
+  share.tuning().promising_share = 1.5;
+  EXPECT_NE(refusal([&] { share.validate(); }).find("promising_share"), std::string::npos);
+  share.tuning().promising_share = 0.0;  // every judged pose is worth its turns
+  EXPECT_NO_THROW(share.validate());
 }
 
 }  // namespace

@@ -58,10 +58,11 @@ struct LocalizerParams {
    * explained_indices are) and the rest of the scene is searched again, until this many are
    * found or a search accepts nothing new (a touching copy is found on its own points). */
   int max_instances = 1;
-  /** Every promising pose (confidence at least min_confidence / 2) is turned about the
-   * model's principal axes, refined and verified (turnedAlternatives) before it is judged:
-   * a clearly more confident turn replaces it, and the others as confident are reported
-   * (ClusterLocalization::alternatives). false: the search's pose as it is. */
+  /** Every promising pose (confidence at least a quarter of min_confidence; doc/TUNING.md,
+   * promising_share) is turned about the model's principal axes, refined and verified
+   * (turnedAlternatives) before it is judged: a clearly more confident turn replaces it, and
+   * the others as confident are reported (ClusterLocalization::alternatives). false: the
+   * search's pose as it is. */
   bool check_turns = true;
   ColourCue colour;
   /** A pose is accepted when its confidence (DepthExplanation::confidence) reaches this.
@@ -162,7 +163,7 @@ struct ClusterLocalization {
   /** Poses as good as this one (within alternatives.confidence_margin of its confidence) that
    * differ from it by a turn: the depth cannot decide between them (a box's flip, a can's
    * spin). Empty: the pose is unique as far as the depth tells, or the pose was not
-   * promising (confidence below min_confidence / 2: its turns are not tried). */
+   * promising (confidence below a quarter of min_confidence: its turns are not tried). */
   std::vector<PoseAlternative> alternatives;
   /** The search's pose was replaced by a turned one that explains the depth better; icf.quality
    * was measured again at it. */

@@ -117,16 +117,15 @@ void adoptPose(ClusterLocalization& c, const Eigen::Isometry3f& pose,
 
 /** The judged pose refined once more with exact faces on \a points, its crop's usable points
  * (strided to final_points: SceneHypotheses::final_points), from the fine start radius, and
- * verified again; it replaces the judged pose when it explains the depth better, and the turns
- * reported beside it are measured from it again. The hypotheses and their turns are refined on
- * small subsets so that many are cheap, and the subset's optimum can sit far enough from the
- * crop's to cost a right pose its fit. */
+ * verified again; it replaces the judged pose when it explains the depth better. The hypotheses
+ * and their turns are refined on small subsets so that many are cheap, and the subset's optimum
+ * can sit far enough from the crop's to cost a right pose its fit. */
 void refineOnTheCrop(ClusterLocalization& c, const std::vector<Eigen::Vector3f>& points,
                      const SceneView& view, const DepthImage& image, const IcfModel& model,
                      const LocalizerParams& params, int threads) {
-  const SceneHypotheses& hp = params.tuning().hypotheses;
   if (points.empty())
     return;
+  const SceneHypotheses& hp = params.tuning().hypotheses;
   RefinementParams fine = params.tuning().icf.tuning().refinement;
   fine.max_points = hp.final_points;
   fine.initial_inlier_distance = std::max(fine.final_inlier_distance, hp.fine_start_radius);
@@ -141,30 +140,23 @@ void refineOnTheCrop(ClusterLocalization& c, const std::vector<Eigen::Vector3f>&
   adoptPose(c, pose, verification, view, points, model, params);
   c.icf.refinement_iterations = refined.iterations;
   c.icf.refinement_converged = refined.converged;
-  const double margin = params.tuning().alternatives.confidence_margin;
-  c.alternatives.erase(std::remove_if(c.alternatives.begin(), c.alternatives.end(),
-                                      [&](const PoseAlternative& alt) {
-                                        return alt.verification.confidence <
-                                               c.verification.confidence - margin;
-                                      }),
-                       c.alternatives.end());
-  for (PoseAlternative& alt : c.alternatives)
-    describeTurn(pose, alt);
 }
 
 /** A pose against its turns about the model's principal axes (turnedAlternatives): a turn
- * that explains the depth clearly better (by more than the margin) replaces it; the others as
- * good (within the margin) are recorded as its alternatives. */
-void resolveTurns(ClusterLocalization& c, const std::vector<Eigen::Vector3f>& points,
-                  const SceneView& view, const DepthImage& image, const IcfModel& model,
-                  const PrincipalAxes& axes, const LocalizerParams& params) {
+ * that explains the depth clearly better (by more than the margin) replaces it. Returns the
+ * poses not chosen: the search's own first when a turn replaced it, then the turns best first. */
+std::vector<PoseAlternative> resolveTurns(ClusterLocalization& c,
+                                          const std::vector<Eigen::Vector3f>& points,
+                                          const SceneView& view, const DepthImage& image,
+                                          const IcfModel& model, const PrincipalAxes& axes,
+                                          const LocalizerParams& params) {
   const PoseAlternativeParams& ap = params.tuning().alternatives;
   const TurnChecks checks{params.tuning().icf.tuning().refinement, params.verificationParams()};
   const Eigen::Isometry3f found(c.icf.object_pose);
   std::vector<PoseAlternative> candidates =
       turnedAlternatives(model, axes, points, found, c.verification, image, ap, checks);
   if (candidates.empty())
-    return;
+    return {};
   PoseAlternative self;
   self.object_pose = found;
   self.verification = c.verification;
@@ -178,17 +170,25 @@ void resolveTurns(ClusterLocalization& c, const std::vector<Eigen::Vector3f>& po
     if (candidates[k].verification.confidence >
         candidates[chosen].verification.confidence + (chosen == 0 ? ap.confidence_margin : 0.0))
       chosen = k;
-  const PoseAlternative winner = candidates[chosen];
   if (chosen != 0) {
-    adoptPose(c, winner.object_pose, winner.verification, view, points, model, params);
+    adoptPose(c, candidates[chosen].object_pose, candidates[chosen].verification, view, points,
+              model, params);
     c.turned = true;
   }
+  candidates.erase(candidates.begin() + static_cast<std::ptrdiff_t>(chosen));
+  return candidates;
+}
+
+/** \a c's alternatives: the poses of \a others (resolveTurns) within the margin of its
+ * confidence, each described as a turn from its final pose. */
+void recordAlternatives(ClusterLocalization& c, const std::vector<PoseAlternative>& others,
+                        const LocalizerParams& params) {
+  const double margin = params.tuning().alternatives.confidence_margin;
+  const Eigen::Isometry3f pose(c.icf.object_pose);
   c.alternatives.clear();
-  for (std::size_t k = 0; k < candidates.size(); ++k)
-    if (k != chosen && candidates[k].verification.confidence >=
-                           winner.verification.confidence - ap.confidence_margin) {
-      PoseAlternative alt = candidates[k];
-      describeTurn(winner.object_pose, alt);
+  for (PoseAlternative alt : others)
+    if (alt.verification.confidence >= c.verification.confidence - margin) {
+      describeTurn(pose, alt);
       c.alternatives.push_back(alt);
     }
 }
@@ -262,9 +262,11 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
   // landed on a near-symmetric flip that explains the depth a little worse), then refined on
   // more of its crop.
   if (isPromising(c, params)) {
-    if (axes)
-      resolveTurns(c, points, view, image, model, *axes, params);
+    const std::vector<PoseAlternative> others =
+        axes ? resolveTurns(c, points, view, image, model, *axes, params)
+             : std::vector<PoseAlternative>{};
     refineOnTheCrop(c, points, view, image, model, params, icf_threads);
+    recordAlternatives(c, others, params);
   }
   const FarPointGate& gate = params.tuning().icf.acceptance.gate;
   if (gate.enabled) {

@@ -115,6 +115,17 @@ void adoptPose(ClusterLocalization& c, const Eigen::Isometry3f& pose,
       explainedPoints(view, c.indices, model, scene_to_model, params.verificationParams());
 }
 
+/** \a base as a hypothesis's exact refinement runs it: on \a max_points of its crop (the
+ * refinement's stride), from the Tukey radius fine_start_radius, for at most fine_iterations
+ * (SceneHypotheses). */
+RefinementParams hypothesisRefinement(RefinementParams base, const SceneHypotheses& hp,
+                                      std::size_t max_points) {
+  base.max_points = max_points;
+  base.initial_inlier_distance = std::max(base.final_inlier_distance, hp.fine_start_radius);
+  base.max_iterations = std::min(base.max_iterations, hp.fine_iterations);
+  return base;
+}
+
 /** The judged pose refined once more with exact faces on \a points, its crop's usable points
  * (strided to final_points: SceneHypotheses::final_points), from the fine start radius, and
  * verified again; it replaces the judged pose when it explains the depth better. The hypotheses
@@ -126,10 +137,8 @@ void refineOnTheCrop(ClusterLocalization& c, const std::vector<Eigen::Vector3f>&
   if (points.empty())
     return;
   const SceneHypotheses& hp = params.tuning().hypotheses;
-  RefinementParams fine = params.tuning().icf.tuning().refinement;
-  fine.max_points = hp.final_points;
-  fine.initial_inlier_distance = std::max(fine.final_inlier_distance, hp.fine_start_radius);
-  fine.max_iterations = std::min(fine.max_iterations, hp.fine_iterations);
+  const RefinementParams fine =
+      hypothesisRefinement(params.tuning().icf.tuning().refinement, hp, hp.final_points);
   const RefinementResult refined =
       refinePose(model.index(), points, Eigen::Isometry3f(c.icf.scene_to_model), fine, threads);
   const Eigen::Isometry3f pose = refined.scene_to_model.inverse();
@@ -225,11 +234,7 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
   // A hypothesis is refined from its pose, on a strided subset of the points near it.
   if (start) {
     const SceneHypotheses& hp = params.tuning().hypotheses;
-    RefinementParams& refinement = icf.tuning().refinement;
-    refinement.max_points = hp.refine_points;
-    refinement.initial_inlier_distance =
-        std::max(refinement.final_inlier_distance, hp.fine_start_radius);
-    refinement.max_iterations = std::min(refinement.max_iterations, hp.fine_iterations);
+    icf.tuning().refinement = hypothesisRefinement(icf.tuning().refinement, hp, hp.refine_points);
   }
   PoseEstimateOptions options;
   if (start)  // the hypothesis's pose is where the refinement starts (scene -> model)

@@ -171,10 +171,11 @@ DepthMap renderDepth(const IcfModel& model, const Eigen::Isometry3d& model_to_ca
   intrinsics.validate();
   const ModelDepth rendered =
       renderModelDepth(model, model_to_camera.cast<float>(), intrinsics, false);
-  DepthMap out{width, height, std::vector<float>(rendered.depth.size(), 0.f)};
-  for (std::size_t p = 0; p < rendered.depth.size(); ++p)
-    if (rendered.depth[p] < DepthImage::kEmpty)
-      out.z[p] = rendered.depth[p];
+  DepthMap out{width, height, std::vector<float>(static_cast<std::size_t>(width) * height, 0.f)};
+  for (int v = 0; v < height; ++v)
+    for (int u = 0; u < width; ++u)
+      if (rendered.covers(u, v))
+        out.z[static_cast<std::size_t>(v) * width + u] = rendered.depthAt(u, v);
   return out;
 }
 

@@ -37,7 +37,7 @@ int gateFarPoints(const std::vector<Eigen::Vector3f>& points, const IcfModel& mo
     if (!single_object) {
       int u = 0, v = 0;
       if (!image.pixelOf(x, u, v) || !rendered.covers(u, v) ||
-          x.z() < rendered.depth[static_cast<std::size_t>(v) * rendered.width + u] - gate.distance)
+          x.z() < rendered.depthAt(u, v) - gate.distance)
         continue;
     }
     if (model.index().closestFace(scene_to_model * x, gate.distance).distance > gate.distance)

@@ -46,6 +46,8 @@ void SceneHypotheses::validate() const {
     fail("refine_points", refine_points, "must be >= 10");
   if (final_points < 10)
     fail("final_points", final_points, "must be >= 10");
+  if (max_voting_points < 100)
+    fail("max_voting_points", max_voting_points, "must be >= 100");
   if (!(fine_start_radius > 0.f && std::isfinite(fine_start_radius)))
     fail("fine_start_radius", fine_start_radius, "must be positive and finite");
   if (fine_iterations < 1)
@@ -93,7 +95,8 @@ PointPairScene votingScene(const internal::SceneView& view, const std::vector<bo
     if (usable[i])
       eligible.push_back(static_cast<int>(i));
   return subsampleForVoting(view.points, eligible, table.step(),
-                            params.voting.normal_radius * table.step(), threads);
+                            params.voting.normal_radius * table.step(), threads,
+                            params.max_voting_points);
 }
 
 std::vector<Candidate> votedCandidates(const IcfModel& model, const PointPairScene& scene,

@@ -129,7 +129,9 @@ void rasterFace(const Eigen::Vector2f* pixels, std::size_t n, const Eigen::Vecto
       if (!(std::abs(along) > 1e-9f))
         continue;
       const float z = offset / along;
-      const std::size_t i = static_cast<std::size_t>(v) * k.width + u;
+      if (!out.inWindow(u, v))
+        continue;
+      const std::size_t i = out.index(u, v);
       if (z > 1e-6f && z < out.depth[i]) {
         out.depth[i] = z;
         out.cosine[i] = std::abs(along) / ray.norm();
@@ -292,7 +294,7 @@ std::pair<int, int> facingEdgePixel(const ModelDepth& m, int ue, int ve, int du,
     if (!m.covers(u, v))
       break;
     walked = in;
-    if (m.cosine[static_cast<std::size_t>(v) * m.width + u] >= params.min_view_cosine)
+    if (m.cosineAt(u, v) >= params.min_view_cosine)
       return {u, v};
   }
   walked = 0;
@@ -317,13 +319,12 @@ bool onModelSurfaceExtended(const Footprint& f, const ModelDepth& m, const Depth
   int walked = 0;
   const auto [ue, ve] = facingEdgePixel(m, f.u(f.nearest[i]), f.v(f.nearest[i]), du, dv, steps,
                                         max_walk, params, walked);
-  const float edge = m.depth[static_cast<std::size_t>(ve) * m.width + ue];
+  const float edge = m.depthAt(ue, ve);
   for (int back = 2; back >= 1; --back) {
     const auto [ui, vi] = stepInward(ue, ve, du, dv, steps, back);
     if (!m.covers(ui, vi))
       continue;
-    const float slope =
-        (edge - m.depth[static_cast<std::size_t>(vi) * m.width + ui]) / static_cast<float>(back);
+    const float slope = (edge - m.depthAt(ui, vi)) / static_cast<float>(back);
     const float extended = edge + slope * static_cast<float>(steps + walked);
     return std::abs(image.depth(ub, vb) - extended) <= params.supportTolerance(extended, diameter);
   }
@@ -388,7 +389,7 @@ bool edgeAlongNormal(const ModelDepth& m, const DepthImage& image, int u, int v,
     const float z = image.depth(pu, pv);
     if (z == DepthImage::kEmpty)
       continue;
-    const std::size_t i = static_cast<std::size_t>(pv) * m.width + pu;
+    const std::size_t i = m.index(pu, pv);
     // Along the normal, but a face seen edge-on (a can's limb) still judged by its depth.
     const float off = (z - m.depth[i]) * std::max(m.cosine[i], 0.05f);
     const float tolerance = params.supportTolerance(m.depth[i], diameter);
@@ -520,8 +521,7 @@ double sunkIntoSupport(const ModelDepth& m, const DepthImage& image, float& deep
     for (int u = m.u_min; u <= m.u_max; ++u) {
       if (!m.covers(u, v))
         continue;
-      const Eigen::Vector3f p =
-          image.pointAt(u, v, m.depth[static_cast<std::size_t>(v) * m.width + u]);
+      const Eigen::Vector3f p = image.pointAt(u, v, m.depthAt(u, v));
       if (plane.head<3>().dot(p) + plane[3] < 0.f && image.overSupport(p))
         beneath.push_back(p);
     }
@@ -675,7 +675,7 @@ class SupportedPlaneSums {
  * cannot put the model's edge beneath the table by more than the tolerance). */
 Verdict judgePixel(const ModelDepth& m, const DepthImage& image, int u, int v, int margin,
                    float diameter, const DepthVerificationParams& params) {
-  const std::size_t i = static_cast<std::size_t>(v) * m.width + u;
+  const std::size_t i = m.index(u, v);
   if (m.cosine[i] < params.min_view_cosine)
     return kUnjudged;
   const bool judged = awayFromSilhouette(m, u, v, margin);
@@ -729,7 +729,7 @@ double occludedBySupport(const Footprint& f, const std::vector<std::uint8_t>& ve
 /** The offset of the measured depth from model pixel (u, v)'s surface along its normal,
  * metres. */
 float normalOffset(const ModelDepth& m, const DepthImage& image, int u, int v) {
-  const std::size_t i = static_cast<std::size_t>(v) * m.width + u;
+  const std::size_t i = m.index(u, v);
   return (image.depth(u, v) - m.depth[i]) * m.cosine[i];
 }
 
@@ -885,12 +885,37 @@ ProjectedFaces projectFaces(const IcfModel& model, const Eigen::Isometry3f& mode
   return out;
 }
 
-/** An empty rendering on \a k's grid. */
+/** An empty rendering on \a k's grid, holding the whole image. */
 ModelDepth emptyRendering(const PinholeIntrinsics& k) {
+  ModelDepth out;
+  out.width = out.window_width = k.width;
+  out.height = out.window_height = k.height;
+  out.depth.assign(static_cast<std::size_t>(k.width) * k.height, DepthImage::kEmpty);
+  out.cosine.assign(out.depth.size(), 0.f);
+  out.u_min = k.width;
+  out.v_min = k.height;
+  return out;
+}
+
+/** An empty rendering on \a k's grid holding only the window a face projected within [\a lo,
+ * \a hi] can cover (rasterFace's clamp: as floats first, then rounded inward); the whole image
+ * when the bounds are not numbers. */
+ModelDepth emptyRenderingWithin(const PinholeIntrinsics& k, const Eigen::Vector2f& lo,
+                                const Eigen::Vector2f& hi) {
+  if (lo.hasNaN() || hi.hasNaN())
+    return emptyRendering(k);
   ModelDepth out;
   out.width = k.width;
   out.height = k.height;
-  out.depth.assign(static_cast<std::size_t>(k.width) * k.height, DepthImage::kEmpty);
+  const float w = static_cast<float>(k.width), h = static_cast<float>(k.height);
+  out.window_u0 = static_cast<int>(std::ceil(std::clamp(lo.x(), 0.f, w)));
+  out.window_v0 = static_cast<int>(std::ceil(std::clamp(lo.y(), 0.f, h)));
+  out.window_width = std::max(
+      0, static_cast<int>(std::floor(std::clamp(hi.x(), -1.f, w - 1.f))) + 1 - out.window_u0);
+  out.window_height = std::max(
+      0, static_cast<int>(std::floor(std::clamp(hi.y(), -1.f, h - 1.f))) + 1 - out.window_v0);
+  out.depth.assign(static_cast<std::size_t>(out.window_width) * out.window_height,
+                   DepthImage::kEmpty);
   out.cosine.assign(out.depth.size(), 0.f);
   out.u_min = k.width;
   out.v_min = k.height;
@@ -948,7 +973,7 @@ ModelDepth renderModelDepth(const IcfModel& model, const Eigen::Isometry3f& mode
   k.validate();
   Eigen::Vector2f lo, hi;
   const ProjectedFaces projected = projectFaces(model, model_to_camera, k, lo, hi);
-  ModelDepth out = emptyRendering(k);
+  ModelDepth out = emptyRenderingWithin(k, lo, hi);
   for (const ProjectedFace& f : projected.faces)
     rasterFace(projected.pixels.data() + f.first, f.count, f.normal, f.offset, k, out);
   out.pixels = static_cast<std::size_t>(std::count_if(
@@ -980,7 +1005,7 @@ std::vector<int> pointsExplainedBy(const IcfModel& model, const Eigen::Isometry3
     int u = 0, v = 0;
     if (!isUsablePoint(points[i]) || !image.pixelOf(points[i], u, v) || !m.covers(u, v))
       continue;
-    const std::size_t k = static_cast<std::size_t>(v) * m.width + u;
+    const std::size_t k = m.index(u, v);
     if (std::abs((points[i].z() - m.depth[k]) * m.cosine[k]) <=
         params.supportTolerance(m.depth[k], diameter))
       explained.push_back(static_cast<int>(i));
@@ -1046,7 +1071,7 @@ DepthExplanation explainDepth(const ModelDepth& m, const DepthImage& image, floa
         continue;
       if (what == kSupported) {
         seeds.push_back(i);
-        const float depth = m.depth[static_cast<std::size_t>(v) * m.width + u];
+        const float depth = m.depthAt(u, v);
         const double offset = normalOffset(m, image, u, v);
         squared_offsets += squaredNoiseOffset(offset, depth, params);
         if (tiles)

@@ -29,6 +29,7 @@
 #include <map>
 #include <numeric>
 #include <stdexcept>
+#include <tuple>
 #include <unordered_map>
 
 namespace pcl {
@@ -302,32 +303,54 @@ void PointPairModel::capBins(std::size_t cap) {
 namespace {
 
 /** Of \a eligible (usable points only), one per cell of a grid of \a step: the nearest to the
- * cell's centre (ties: the lower index), cells in key order. */
+ * cell's centre (ties: the lower index), cells in key order. One sort of (cell, distance,
+ * index), a strict order, so the result does not depend on how it is sorted: in two halves in
+ * parallel, then merged (a million points: 0.1 s, a fifth of what a hash map of the cells
+ * took). */
 std::vector<int> onePerCell(const std::vector<Eigen::Vector3f>& points,
-                            const std::vector<int>& eligible, float step) {
-  std::unordered_map<std::uint64_t, int> best;
-  best.reserve(eligible.size() / 4 + 16);
+                            const std::vector<int>& eligible, float step, int threads) {
+  struct InCell {
+    std::uint64_t key;
+    float distance;
+    int index;
+  };
+  std::vector<InCell> candidates;
+  candidates.reserve(eligible.size());
   for (const int i : eligible) {
     const Eigen::Vector3f& p = points[static_cast<std::size_t>(i)];
-    if (!isUsablePoint(p))
-      continue;
-    const std::uint64_t key = cellKey(p, step);
-    auto [it, inserted] = best.emplace(key, i);
-    if (!inserted) {
-      const Eigen::Vector3f centre = cellCentre(p, step);
-      const float mine = (p - centre).squaredNorm();
-      const float theirs = (points[static_cast<std::size_t>(it->second)] - centre).squaredNorm();
-      if (mine < theirs || (mine == theirs && i < it->second))
-        it->second = i;
-    }
+    if (isUsablePoint(p))
+      candidates.push_back({cellKey(p, step), (p - cellCentre(p, step)).squaredNorm(), i});
   }
-  std::vector<std::pair<std::uint64_t, int>> cells(best.begin(), best.end());
-  std::sort(cells.begin(), cells.end());
+  const auto before = [](const InCell& a, const InCell& b) {
+    return std::tie(a.key, a.distance, a.index) < std::tie(b.key, b.distance, b.index);
+  };
+  const auto middle = candidates.begin() + static_cast<long>(candidates.size() / 2);
+#pragma omp parallel sections num_threads(std::clamp(threads, 1, 2))
+  {
+#pragma omp section
+    std::sort(candidates.begin(), middle, before);
+#pragma omp section
+    std::sort(middle, candidates.end(), before);
+  }
+  std::inplace_merge(candidates.begin(), middle, candidates.end(), before);
   std::vector<int> kept;
-  kept.reserve(cells.size());
-  for (const auto& [key, i] : cells)
-    kept.push_back(i);
+  for (std::size_t k = 0; k < candidates.size(); ++k)
+    if (k == 0 || candidates[k].key != candidates[k - 1].key)
+      kept.push_back(candidates[k].index);
   return kept;
+}
+
+/** \a kept (one point per cell of a grid of \a step) regridded coarser until at most \a
+ * max_points remain (0: no limit); returns the step of the last grid. A view of surfaces holds
+ * cells in proportion to 1 / step^2, so the step grows by the square root of the excess, again
+ * until the budget holds (a volume of points shrinks faster than that). */
+float coarsenToBudget(const std::vector<Eigen::Vector3f>& points, std::vector<int>& kept,
+                      float step, std::size_t max_points, int threads) {
+  for (int round = 0; max_points > 0 && kept.size() > max_points && round < 16; ++round) {
+    step *= std::sqrt(static_cast<float>(kept.size()) / static_cast<float>(max_points));
+    kept = onePerCell(points, kept, step, threads);
+  }
+  return step;
 }
 
 /** At most \a cap of \a items, evenly strided from the first (which stays); order kept. */
@@ -348,17 +371,29 @@ constexpr float kNormalSupport = 100.f;
 
 PointPairScene subsampleForVoting(const std::vector<Eigen::Vector3f>& points,
                                   const std::vector<int>& eligible, float step, float normal_radius,
-                                  int threads) {
+                                  int threads, std::size_t max_points) {
   PointPairScene scene;
   scene.step = step;
   if (!(step > 0.f) || eligible.empty())
     return scene;
-  const std::vector<int> kept = onePerCell(points, eligible, step);
+  const std::vector<int> on_step = onePerCell(points, eligible, step, threads);
+  std::vector<int> kept = on_step;
+  scene.step = coarsenToBudget(points, kept, step, max_points, threads);
+  const bool coarser = scene.step > step;
+  normal_radius *= scene.step / step;
   // The surface the normals are fitted to: the eligible points on a grid of radius sqrt(pi /
   // kNormalSupport) (a full-resolution cloud holds thousands in the radius, and a plane through
-  // a hundred is as good).
-  const std::vector<int> support =
-      onePerCell(points, eligible, normal_radius * std::sqrt(kPi / kNormalSupport));
+  // a hundred is as good). On a coarser grid, drawn from the points on the model's step, at most
+  // a quarter of what a view of surfaces holds per kept point: a plane through some 25 in the
+  // radius, where a volume of points would put several hundred.
+  const float support_step = normal_radius * std::sqrt(kPi / kNormalSupport);
+  std::vector<int> support =
+      onePerCell(points, coarser ? on_step : eligible, support_step, threads);
+  if (coarser) {
+    const auto per_kept = std::max<std::size_t>(
+        1, static_cast<std::size_t>(std::ceil(0.25f * std::pow(scene.step / support_step, 2.f))));
+    coarsenToBudget(points, support, support_step, per_kept * kept.size(), threads);
+  }
   std::vector<Eigen::Vector3f> estimated;
   {
     // PCL's NormalEstimationOMP on the kept points, the support as the search surface.

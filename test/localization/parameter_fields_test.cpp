@@ -128,6 +128,7 @@ TEST(FieldRegistry, NamesReachTheMembersTheySay) {
   set("max_points", "640");
   set("far_point_gate", "true");
   set("final_points", "5000");
+  set("pp_max_scene_points", "20000");
   set("promising_share", "0.3");
   EXPECT_EQ(p.tuning().icf.tuning().global.keep, 7u);
   EXPECT_EQ(p.seed, 12345u);
@@ -144,6 +145,7 @@ TEST(FieldRegistry, NamesReachTheMembersTheySay) {
   EXPECT_EQ(p.tuning().icf.tuning().refinement.max_points, 640u);
   EXPECT_TRUE(p.tuning().icf.acceptance.gate.enabled);
   EXPECT_EQ(p.tuning().hypotheses.final_points, 5000u);
+  EXPECT_EQ(p.tuning().hypotheses.max_voting_points, 20000u);
   EXPECT_EQ(p.tuning().promising_share, 0.3);
 
   TrackerParams t;
@@ -196,6 +198,9 @@ TEST(FieldRegistry, ValidateNamesTheJudgingsFields) {
   LocalizerParams few;
   few.tuning().hypotheses.final_points = 9;
   EXPECT_NE(refusal([&] { few.validate(); }).find("final_points"), std::string::npos);
+  LocalizerParams voters;
+  voters.tuning().hypotheses.max_voting_points = 99;
+  EXPECT_NE(refusal([&] { voters.validate(); }).find("max_voting_points"), std::string::npos);
   LocalizerParams share;
   share.tuning().promising_share = 1.5;
   EXPECT_NE(refusal([&] { share.validate(); }).find("promising_share"), std::string::npos);

@@ -95,14 +95,27 @@ TEST(DepthVerification, RendersWhatTheRayCasterSees) {
       const bool cast = std::isfinite(p.z);
       if (cast && m.covers(u, v)) {
         ++both;
-        worst =
-            std::max(worst, std::abs(double(p.z) - m.depth[static_cast<std::size_t>(v) * 640 + u]));
+        worst = std::max(worst, std::abs(double(p.z) - m.depthAt(u, v)));
       } else if (cast != m.covers(u, v))
         ++only_one;
     }
   ASSERT_GT(both, 1000u);
   EXPECT_LT(worst, 1e-5);
   EXPECT_LT(static_cast<double>(only_one) / static_cast<double>(both), 0.02);
+  // Read above over the whole image, it holds only the model's window: its covered pixels are
+  // all there, and it is a small share of the image (the box spans some 150 x 150 pixels).
+  std::size_t covered = 0;
+  for (int v = 0; v < 480; ++v)
+    for (int u = 0; u < 640; ++u)
+      if (m.covers(u, v)) {
+        ++covered;
+        EXPECT_TRUE(m.inWindow(u, v) && u >= m.u_min && u <= m.u_max && v >= m.v_min &&
+                    v <= m.v_max);
+      }
+  EXPECT_EQ(covered, m.pixels);
+  EXPECT_EQ(m.depth.size(),
+            static_cast<std::size_t>(m.window_width) * static_cast<std::size_t>(m.window_height));
+  EXPECT_LT(m.depth.size(), 640u * 480u / 4u);
 }
 
 // Kinect-like noise (1.5 mm at 1 m, 5% outliers up to 5 cm): the right pose is explained
@@ -586,8 +599,7 @@ TEST(DepthVerification, TheModelBeyondTheImageIsWhatAWiderCameraSees) {
       if (w.covers(u, v) != n.covers(un, vn)) {
         ++differ;
       } else if (w.covers(u, v)) {
-        EXPECT_NEAR(w.depth[static_cast<std::size_t>(v) * w.width + u],
-                    n.depth[static_cast<std::size_t>(vn) * n.width + un], 1e-5f);
+        EXPECT_NEAR(w.depthAt(u, v), n.depthAt(un, vn), 1e-5f);
       }
     }
   ASSERT_GT(outside, 500u) << "the pose must put a good part of the box beyond the edge";

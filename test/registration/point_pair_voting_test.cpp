@@ -297,6 +297,77 @@ TEST(VoteForPoses, AddsThePosesThatExplainWhatTheyShow) {
       << "no hypothesis near the hidden box";
 }
 
+/** \a n points: a noisy plane at 1 m facing the camera (\a volume false, 10 x 10 cm, 0.5 mm
+ * noise), or uniform in a 10 cm cube there. Seeded. */
+std::vector<Eigen::Vector3f> planeOrVolume(std::size_t n, bool volume, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<float> across(-0.05f, 0.05f);
+  std::normal_distribution<float> noise(0.f, 0.0005f);
+  std::vector<Eigen::Vector3f> points;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float x = across(rng), y = across(rng);
+    points.emplace_back(x, y, 1.f + (volume ? across(rng) : noise(rng)));
+  }
+  return points;
+}
+
+std::vector<int> allOf(const std::vector<Eigen::Vector3f>& points) {
+  std::vector<int> all(points.size());
+  for (std::size_t i = 0; i < all.size(); ++i)
+    all[i] = static_cast<int>(i);
+  return all;
+}
+
+// Against brute force: of each grid cell, the point nearest its centre (ties: the lower index);
+// the same at 1 and 2 threads.
+TEST(SubsampleForVoting, KeepsThePointNearestEachCellsCentre) {
+  const std::vector<Eigen::Vector3f> points = planeOrVolume(20000, false, 21);
+  const float step = 0.004f;
+  std::map<std::tuple<long, long, long>, int> nearest;
+  const auto centreDistance = [&](int i) {
+    const Eigen::Vector3f& p = points[static_cast<std::size_t>(i)];
+    return (p - ((p / step).array().floor() + 0.5f).matrix() * step).squaredNorm();
+  };
+  for (int i = 0; i < static_cast<int>(points.size()); ++i) {
+    const Eigen::Vector3f c = (points[static_cast<std::size_t>(i)] / step).array().floor();
+    const auto key = std::make_tuple(long(c.x()), long(c.y()), long(c.z()));
+    const auto it = nearest.find(key);
+    if (it == nearest.end() || centreDistance(i) < centreDistance(it->second))
+      nearest[key] = i;
+  }
+  std::set<int> expected;
+  for (const auto& [key, i] : nearest)
+    expected.insert(i);
+  const PointPairScene one = subsampleForVoting(points, allOf(points), step, 2 * step, 1);
+  const PointPairScene two = subsampleForVoting(points, allOf(points), step, 2 * step, 2);
+  EXPECT_EQ(one.indices, two.indices);
+  EXPECT_EQ(std::set<int>(one.indices.begin(), one.indices.end()), expected);
+  EXPECT_EQ(one.step, step);
+}
+
+// A point budget: a plane is gridded coarser until it fits, near the budget (its cells fall
+// as 1 / step^2), its normals still the plane's; a volume too, within the budget; the same at
+// 1 and 2 threads. Without a budget the plane keeps one point per cell of the step.
+TEST(SubsampleForVoting, KeepsAPointBudget) {
+  const float step = 0.002f;
+  const std::vector<Eigen::Vector3f> plane = planeOrVolume(40000, false, 22);
+  const PointPairScene all = subsampleForVoting(plane, allOf(plane), step, 2 * step, 2);
+  ASSERT_GT(all.points.size(), 2000u);  // (10 cm / 2 mm)^2 cells, nearly all hold a point
+  const PointPairScene budget = subsampleForVoting(plane, allOf(plane), step, 2 * step, 2, 500);
+  EXPECT_LE(budget.points.size(), 500u);
+  EXPECT_GE(budget.points.size(), 250u);
+  EXPECT_GT(budget.step, 2.f * step);
+  for (std::size_t i = 0; i < budget.points.size(); ++i)
+    EXPECT_GT(std::abs(budget.normals[i].z()), 0.99f) << i;
+  const std::vector<Eigen::Vector3f> volume = planeOrVolume(100000, true, 23);
+  const PointPairScene one = subsampleForVoting(volume, allOf(volume), step, 2 * step, 1, 2000);
+  const PointPairScene two = subsampleForVoting(volume, allOf(volume), step, 2 * step, 2, 2000);
+  EXPECT_LE(one.points.size(), 2000u);
+  EXPECT_GT(one.points.size(), 100u);
+  EXPECT_EQ(one.indices, two.indices);
+  EXPECT_EQ(one.step, two.step);
+}
+
 TEST(PointPairParams, RejectsOutOfRangeFields) {
   PointPairModelParams m;
   m.angle_bins = 40;  // more than the 32 flags a word holds

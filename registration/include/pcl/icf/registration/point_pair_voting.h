@@ -217,7 +217,7 @@ struct VotedPose {
 struct PointPairScene {
   std::vector<Eigen::Vector3f> points, normals;
   std::vector<int> indices;
-  float step = 0.f;
+  float step = 0.f;  ///< the grid's step: the one asked for, or coarser to keep a point budget
 };
 
 /** \brief The scene points \a eligible (indices into \a points; usable points only) on a grid of
@@ -226,10 +226,13 @@ struct PointPairScene {
  * neighbours), oriented towards the camera. The radius follows the model's sampling step rather
  * than the image's pixels, so the normals are as smooth at 1.5 m as at 0.5 m and a structured-
  * light sensor's depth steps (a few millimetres at 1 m) do not tilt them. Points without a
- * normal are left out. Deterministic and independent of \a threads. */
+ * normal are left out. With \a max_points > 0, a scene that would keep more (a volume of points
+ * rather than a view of surfaces, a wide high-resolution frame for a small model) is gridded
+ * coarser, step and radius by one factor, until at most \a max_points are kept
+ * (PointPairScene::step says which). Deterministic and independent of \a threads. */
 PointPairScene subsampleForVoting(const std::vector<Eigen::Vector3f>& points,
                                   const std::vector<int>& eligible, float step, float normal_radius,
-                                  int threads = 1);
+                                  int threads = 1, std::size_t max_points = 0);
 
 /** \brief True when \a a and \a b (model -> camera) put the model's surface in the same place:
  * each of the first 64 of the model's surface samples moved from \a a to \a b lies within \a

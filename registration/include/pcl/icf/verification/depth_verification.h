@@ -239,12 +239,18 @@ constexpr int kMaxOutOfViewPad = 640;
 
 /** \brief The posed model as the camera would see it: per pixel the depth of its nearest
  * camera-facing surface, the cosine between the ray and that surface's normal (0 where the
- * model is absent). Same size and intrinsics as the depth image it is rendered for. */
+ * model is absent). Same size and intrinsics as the depth image it is rendered for; it holds
+ * only the window of that image the model's projection can reach, so a small model in a large
+ * image costs its own pixels, not the image's (read through depthAt, cosineAt, covers). */
 struct ModelDepth {
-  int width = 0, height = 0;
-  std::vector<float> depth;   ///< DepthImage::kEmpty where the model does not cover the pixel
-  std::vector<float> cosine;  ///< ray-normal cosine of the visible face
-  std::size_t pixels = 0;     ///< covered pixels
+  int width = 0, height = 0;  ///< the image's size
+  /** The window held: pixels [window_u0, window_u0 + window_width) x [window_v0, ...). */
+  int window_u0 = 0, window_v0 = 0, window_width = 0, window_height = 0;
+  /** Per pixel of the window, row by row (index): DepthImage::kEmpty where the model does not
+   * cover the pixel. */
+  std::vector<float> depth;
+  std::vector<float> cosine;           ///< ray-normal cosine of the visible face, per window pixel
+  std::size_t pixels = 0;              ///< covered pixels
   float nearest = DepthImage::kEmpty;  ///< smallest depth of the covered pixels
   /** Bounding box of the covered pixels (empty when u_min > u_max). */
   int u_min = 0, v_min = 0, u_max = -1, v_max = -1;
@@ -254,10 +260,20 @@ struct ModelDepth {
    * renderModelDepth was asked not to count them. */
   std::vector<float> out_of_view_cosines;
 
-  bool covers(int u, int v) const {
-    return u >= 0 && v >= 0 && u < width && v < height &&
-           depth[static_cast<std::size_t>(v) * width + u] < DepthImage::kEmpty;
+  bool inWindow(int u, int v) const {
+    return u >= window_u0 && v >= window_v0 && u < window_u0 + window_width &&
+           v < window_v0 + window_height;
   }
+  /** The slot of pixel (u, v) in depth and cosine; (u, v) must lie in the window. */
+  std::size_t index(int u, int v) const {
+    return static_cast<std::size_t>(v - window_v0) * static_cast<std::size_t>(window_width) +
+           static_cast<std::size_t>(u - window_u0);
+  }
+  float depthAt(int u, int v) const {
+    return inWindow(u, v) ? depth[index(u, v)] : DepthImage::kEmpty;
+  }
+  float cosineAt(int u, int v) const { return inWindow(u, v) ? cosine[index(u, v)] : 0.f; }
+  bool covers(int u, int v) const { return depthAt(u, v) < DepthImage::kEmpty; }
 };
 
 /** \brief Renders \a model at \a model_to_camera into \a image's pixel grid with a z-buffer:

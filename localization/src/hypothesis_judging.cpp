@@ -216,11 +216,15 @@ std::string rejection(const ClusterLocalization& c, const LocalizerParams& param
   return reason;
 }
 
-ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
-                                 const pcl::PointIndices& indices, const IcfModel& model,
-                                 const LocalizerParams& params, int icf_threads,
-                                 const std::optional<ColourHistogram>& expected, bool single_object,
-                                 const PrincipalAxes* axes, const Eigen::Isometry3f* start) {
+/** A hypothesis at \a start (model -> camera) judged on the points \a indices near it: refined
+ * from there with exact faces on a strided subset, verified against \a image, its turns tried
+ * and refined once more when it is promising, then accepted or refused with the reason. */
+ClusterLocalization judgeHypothesis(const SceneView& view, const DepthImage& image,
+                                    const pcl::PointIndices& indices, const IcfModel& model,
+                                    const LocalizerParams& params, int icf_threads,
+                                    const std::optional<ColourHistogram>& expected,
+                                    bool single_object, const PrincipalAxes* axes,
+                                    const Eigen::Isometry3f& start) {
   ClusterLocalization c;
   c.indices = indices;
   c.single_object = single_object;
@@ -231,14 +235,12 @@ ClusterLocalization judgeCluster(const SceneView& view, const DepthImage& image,
   // The gate is applied below, to the points the posed model claims (a merged cluster's other
   // objects are not its far points), not by estimatePose to the whole crop.
   icf.acceptance.gate.enabled = false;
-  // A hypothesis is refined from its pose, on a strided subset of the points near it.
-  if (start) {
-    const SceneHypotheses& hp = params.tuning().hypotheses;
-    icf.tuning().refinement = hypothesisRefinement(icf.tuning().refinement, hp, hp.refine_points);
-  }
+  // A hypothesis is refined from its pose (scene -> model), on a strided subset of the points
+  // near it.
+  const SceneHypotheses& hp = params.tuning().hypotheses;
+  icf.tuning().refinement = hypothesisRefinement(icf.tuning().refinement, hp, hp.refine_points);
   PoseEstimateOptions options;
-  if (start)  // the hypothesis's pose is where the refinement starts (scene -> model)
-    options.guess = start->inverse(Eigen::Isometry);
+  options.guess = start.inverse(Eigen::Isometry);
   // A start worth refining never needs more than an accepted pose.
   const double refine_at = std::min(params.tuning().refine_min_confidence, params.min_confidence);
   const DepthVerificationParams rough = params.verificationParams().forRoughPoses();
@@ -305,8 +307,8 @@ std::vector<ClusterLocalization> judgeHypotheses(const SceneView& view, const De
   for (int k = 0; k < n; ++k) {
     const RankedHypothesis& h = ranked[static_cast<std::size_t>(k)];
     ClusterLocalization& c = judged[static_cast<std::size_t>(k)];
-    c = judgeCluster(view, image, h.near, model, params, n == 1 ? threads : 1, expected, true,
-                     axes ? &*axes : nullptr, &h.model_to_camera);
+    c = judgeHypothesis(view, image, h.near, model, params, n == 1 ? threads : 1, expected, true,
+                        axes ? &*axes : nullptr, h.model_to_camera);
     c.source_cluster = h.source.cluster;
     c.prescore = h.prescore;
   }

@@ -33,7 +33,7 @@ namespace localization {
  * Every hypothesis is refined on the closest-point field with the scene points near it and
  * verified against the depth image (explainDepth); poses that put the model's surface in the
  * same place are one. The most confident are judged: refined with exact faces, verified,
- * their turns tried (judgeCluster), and the verification decides. */
+ * their turns tried (judgeHypothesis), and the verification decides. */
 struct SceneHypotheses {
   bool point_pairs = true;  ///< the whole scene's votes
   /** voting.kept: the voted poses the ranking verifies. */

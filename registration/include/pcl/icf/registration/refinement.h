@@ -36,7 +36,9 @@ struct RefinementParams {
   /** Stop when the weighted mean squared residual changes by less than this fraction of its
    * previous value (relative, PCL's ICP convention; 0: never). */
   double euclidean_fitness_epsilon = 0.0;
-  /** At most this many points per iteration (an evenly strided subset). 0: all. */
+  /** About this many points per iteration: every k-th point, k = (points / max_points) rounded
+   * down, so from max_points to just under twice as many (5,999 points and 3,000 use all).
+   * 0: all. */
   std::size_t max_points = 0;
 
   /** \throws std::invalid_argument naming the field and value. */

@@ -46,8 +46,8 @@ void SceneHypotheses::validate() const {
     fail("refine_points", refine_points, "must be >= 10");
   if (final_points < 10)
     fail("final_points", final_points, "must be >= 10");
-  if (max_voting_points < 100)
-    fail("max_voting_points", max_voting_points, "must be >= 100");
+  if (max_voting_points > 0 && max_voting_points < 100)
+    fail("max_voting_points", max_voting_points, "must be 0 (no limit) or >= 100");
   if (!(fine_start_radius > 0.f && std::isfinite(fine_start_radius)))
     fail("fine_start_radius", fine_start_radius, "must be positive and finite");
   if (fine_iterations < 1)

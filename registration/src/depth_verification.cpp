@@ -96,14 +96,14 @@ void rasterFace(const Eigen::Vector2f* pixels, std::size_t n, const Eigen::Vecto
     lo = lo.cwiseMin(pixels[i]);
     hi = hi.cwiseMax(pixels[i]);
   }
+  if (!(lo.allFinite() && hi.allFinite()))
+    return;
   // Clamped as floats first: a vertex just in front of the camera projects far outside.
   const float w = static_cast<float>(k.width), h = static_cast<float>(k.height);
   const int u0 = static_cast<int>(std::ceil(std::clamp(lo.x(), 0.f, w)));
   const int v0 = static_cast<int>(std::ceil(std::clamp(lo.y(), 0.f, h)));
   const int u1 = static_cast<int>(std::floor(std::clamp(hi.x(), -1.f, w - 1.f)));
   const int v1 = static_cast<int>(std::floor(std::clamp(hi.y(), -1.f, h - 1.f)));
-  if (!(lo.allFinite() && hi.allFinite()))
-    return;
   float area = 0.f;
   for (std::size_t i = 0; i < n; ++i) {
     const auto& a = pixels[i];
@@ -957,7 +957,7 @@ std::vector<float> beyondTheImage(const ProjectedFaces& projected, const Pinhole
   std::vector<float> cosines;
   for (int v = 0; v < local.height; ++v)
     for (int u = 0; u < local.width; ++u) {
-      const std::size_t i = static_cast<std::size_t>(v) * local.width + u;
+      const std::size_t i = grid.index(u, v);
       const int ui = u + u0, vi = v + v0;
       if (grid.depth[i] < DepthImage::kEmpty &&
           (ui < 0 || vi < 0 || ui >= k.width || vi >= k.height))

@@ -302,6 +302,16 @@ void PointPairModel::capBins(std::size_t cap) {
 
 namespace {
 
+/** At most \a cap of \a items, evenly strided from the first (which stays); order kept. */
+void keepEvenlyStrided(std::vector<int>& items, std::size_t cap) {
+  if (items.size() <= cap)
+    return;
+  const double stride = static_cast<double>(items.size()) / static_cast<double>(cap);
+  for (std::size_t k = 0; k < cap; ++k)
+    items[k] = items[static_cast<std::size_t>(std::floor(static_cast<double>(k) * stride))];
+  items.resize(cap);
+}
+
 /** Of \a eligible (usable points only), one per cell of a grid of \a step: the nearest to the
  * cell's centre (ties: the lower index), cells in key order. One sort of (cell, distance,
  * index), a strict order, so the result does not depend on how it is sorted: in two halves in
@@ -342,25 +352,21 @@ std::vector<int> onePerCell(const std::vector<Eigen::Vector3f>& points,
 
 /** \a kept (one point per cell of a grid of \a step) regridded coarser until at most \a
  * max_points remain (0: no limit); returns the step of the last grid. A view of surfaces holds
- * cells in proportion to 1 / step^2, so the step grows by the square root of the excess, again
- * until the budget holds (a volume of points shrinks faster than that). */
+ * cells in proportion to 1 / step^2, so the step grows by the square root of the excess (at
+ * least 5%: near the budget a step barely larger merges nothing), again until the budget holds
+ * (a volume of points shrinks faster than that); after 16 grids an evenly strided share, still
+ * at most one point per cell. */
 float coarsenToBudget(const std::vector<Eigen::Vector3f>& points, std::vector<int>& kept,
                       float step, std::size_t max_points, int threads) {
-  for (int round = 0; max_points > 0 && kept.size() > max_points && round < 16; ++round) {
-    step *= std::sqrt(static_cast<float>(kept.size()) / static_cast<float>(max_points));
+  if (max_points == 0)
+    return step;
+  for (int round = 0; kept.size() > max_points && round < 16; ++round) {
+    step *= std::max(1.05f,
+                     std::sqrt(static_cast<float>(kept.size()) / static_cast<float>(max_points)));
     kept = onePerCell(points, kept, step, threads);
   }
+  keepEvenlyStrided(kept, max_points);
   return step;
-}
-
-/** At most \a cap of \a items, evenly strided from the first (which stays); order kept. */
-void keepEvenlyStrided(std::vector<int>& items, std::size_t cap) {
-  if (items.size() <= cap)
-    return;
-  const double stride = static_cast<double>(items.size()) / static_cast<double>(cap);
-  for (std::size_t k = 0; k < cap; ++k)
-    items[k] = items[static_cast<std::size_t>(std::floor(static_cast<double>(k) * stride))];
-  items.resize(cap);
 }
 
 /** Points a normal is fitted to per search radius: the search surface is the eligible points
@@ -743,7 +749,9 @@ std::vector<VotedPose> voteForPoses(const IcfModel& model, const PointPairScene&
 
   // View-dependent re-score of the best clusters, in parallel into fixed slots.
   const SceneGrid grid(scene);
-  const float distance = params.rescore_distance * table.step();
+  // Within the scene's own spacing where it was gridded coarser than the model's step
+  // (subsampleForVoting's point budget): a sample then lies up to that far from a scene point.
+  const float distance = params.rescore_distance * std::max(table.step(), scene.step);
   const float cos_max = std::cos(params.rescore_angle_deg * kPi / 180.f);
   const float hidden_distance = params.rescore_hidden_distance * table.step();
   // The hidden samples are counted only for the kept_visible ranking that reads them.

@@ -201,6 +201,8 @@ TEST(FieldRegistry, ValidateNamesTheJudgingsFields) {
   LocalizerParams voters;
   voters.tuning().hypotheses.max_voting_points = 99;
   EXPECT_NE(refusal([&] { voters.validate(); }).find("max_voting_points"), std::string::npos);
+  voters.tuning().hypotheses.max_voting_points = 0;  // no limit
+  EXPECT_NO_THROW(voters.validate());
   LocalizerParams share;
   share.tuning().promising_share = 1.5;
   EXPECT_NE(refusal([&] { share.validate(); }).find("promising_share"), std::string::npos);

@@ -357,8 +357,21 @@ TEST(SubsampleForVoting, KeepsAPointBudget) {
   EXPECT_LE(budget.points.size(), 500u);
   EXPECT_GE(budget.points.size(), 250u);
   EXPECT_GT(budget.step, 2.f * step);
-  for (std::size_t i = 0; i < budget.points.size(); ++i)
-    EXPECT_GT(std::abs(budget.normals[i].z()), 0.99f) << i;
+  // The coarser grid's normals are fitted to some 25 support points in their radius (about 12
+  // at the plane's border) with 0.5 mm noise across 9 mm: within 8 degrees for 95% of them,
+  // within 15 for every one.
+  std::size_t within_8 = 0;
+  for (std::size_t i = 0; i < budget.points.size(); ++i) {
+    EXPECT_GT(std::abs(budget.normals[i].z()), std::cos(15.f * 3.14159265f / 180.f)) << i;
+    within_8 += std::abs(budget.normals[i].z()) > std::cos(8.f * 3.14159265f / 180.f) ? 1 : 0;
+  }
+  EXPECT_GE(within_8, budget.points.size() * 95 / 100);
+  // One point over the budget: the grid still coarsens (by at least 5% a round) until it fits.
+  const std::size_t just_under = all.indices.size() - 1;
+  const PointPairScene tight =
+      subsampleForVoting(plane, allOf(plane), step, 2 * step, 2, just_under);
+  EXPECT_LE(tight.indices.size(), just_under);
+  EXPECT_GT(tight.step, step);
   const std::vector<Eigen::Vector3f> volume = planeOrVolume(100000, true, 23);
   const PointPairScene one = subsampleForVoting(volume, allOf(volume), step, 2 * step, 1, 2000);
   const PointPairScene two = subsampleForVoting(volume, allOf(volume), step, 2 * step, 2, 2000);

@@ -41,7 +41,7 @@ struct SceneHypotheses {
   /** The votes come from at most this many scene points (subsampleForVoting's max_points): a
    * cloud that keeps more on the model's step is gridded coarser. A 640 x 480 view keeps a few
    * thousand (real frames at most 5,140, the desks at 0.6-1.8 m 14,561); a million points
-   * filling a volume kept 738,000 and spent 2.8 s estimating their normals. */
+   * filling a volume kept 738,000 and spent 2.8 s estimating their normals. 0: no limit. */
   std::size_t max_voting_points = 50000;
   bool clusters = false;  ///< the clusters' searches
   /** The best hypotheses of each cluster's search that enter the ranking. */
